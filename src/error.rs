@@ -1,0 +1,89 @@
+//! The one error type of the crate: every variant names the offending value.
+
+use std::path::PathBuf;
+use thiserror::Error;
+
+/// Everything that can go wrong in psh, with the value that was wrong.
+#[derive(Debug, Error)]
+pub enum Error {
+    /// A real input (angle, coordinate, weight) was NaN or infinite.
+    #[error("{name} must be finite, got {value}")]
+    NonFinite { name: &'static str, value: f64 },
+
+    /// A direction was expected to be a unit vector.
+    #[error("direction {value:?} is not a unit vector (norm {norm})")]
+    NonUnitDirection { value: [f64; 3], norm: f64 },
+
+    /// A degree (band index) beyond what the routine supports.
+    #[error("degree {name} = {value} out of range: {reason}")]
+    DegreeOutOfRange {
+        name: &'static str,
+        value: i64,
+        reason: String,
+    },
+
+    /// An order m with |m| > l, or a spin with |s| > l.
+    #[error("order {name} = {m} out of range for degree l = {l} (need |{name}| <= l)")]
+    OrderOutOfRange { name: &'static str, l: i64, m: i64 },
+
+    /// A rotation that cannot be built (zero or non-finite rotation vector, non-orthogonal matrix).
+    #[error("invalid rotation {value}: {reason}")]
+    InvalidRotation { value: String, reason: String },
+
+    /// A sampling grid too coarse for the requested band limit.
+    #[error("grid too small: {reason}")]
+    GridTooSmall { reason: String },
+
+    /// A buffer or array whose length does not match what the operation needs.
+    #[error("length mismatch for {name}: expected {expected}, got {got}")]
+    LengthMismatch {
+        name: &'static str,
+        expected: usize,
+        got: usize,
+    },
+
+    /// Any other invalid argument, with its value and the reason.
+    #[error("invalid {name} = {value}: {reason}")]
+    InvalidArgument {
+        name: &'static str,
+        value: String,
+        reason: String,
+    },
+
+    /// A file that could not be read or parsed.
+    #[error("malformed file {}: {reason}", path.display())]
+    MalformedFile { path: PathBuf, reason: String },
+
+    /// An I/O failure on a named file.
+    #[error("I/O error on {}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+/// `Result` with [`Error`].
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// Checks that `value` is finite, naming it in the error otherwise.
+pub fn finite(name: &'static str, value: f64) -> Result<f64> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(Error::NonFinite { name, value })
+    }
+}
+
+/// Checks that `len == expected`.
+pub fn check_len(name: &'static str, expected: usize, got: usize) -> Result<()> {
+    if expected == got {
+        Ok(())
+    } else {
+        Err(Error::LengthMismatch {
+            name,
+            expected,
+            got,
+        })
+    }
+}

@@ -1,0 +1,264 @@
+//! Pixel grids on the sphere: the direction and exact solid angle of every texel of an
+//! equirectangular image or of a cube map stored as a 3 x 4 cross.
+//!
+//! Cube cross (DESIGN.md, `docs/conventions.md`): an image of `3e` rows by `4e` columns;
+//! Up at row-block 0 column-block 1; Left, Front, Right, Back at row-block 1, columns 0..3;
+//! Down at row-block 2 column-block 1; world `x, y, z` = Right, Front, Up. Each face is a
+//! 90-degree perspective camera with image-right `r`, image-up `u` and forward `f`:
+//!
+//! | face | f | r | u |
+//! |---|---|---|---|
+//! | Front | +y | +x | +z |
+//! | Right | +x | -y | +z |
+//! | Back | -y | -x | +z |
+//! | Left | -x | +y | +z |
+//! | Up | +z | +x | -y |
+//! | Down | -z | +x | +y |
+//!
+//! Texel `(i, j)` of a face (row `i` from the top) has face coordinates
+//! `a = 2 (j + 1/2)/e - 1` (right), `b = 1 - 2 (i + 1/2)/e` (up), direction
+//! `normalize(f + a r + b u)`, and solid angle by the exact formula for a rectangle on the
+//! plane at unit distance, `Omega = F(a1, b1) - F(a0, b1) - F(a1, b0) + F(a0, b0)` with
+//! `F(a, b) = atan(a b / sqrt(1 + a^2 + b^2))` (derived in `proofs/pixel-solid-angles.md`).
+//!
+//! Equirectangular: `H` rows by `W` columns, row `i` spans polar angles
+//! `[pi i / H, pi (i+1) / H]` (theta from +z), column `j` spans azimuths
+//! `[2 pi j / W, 2 pi (j+1) / W]` (phi from +x towards +y); texel solid angle
+//! `(cos theta_0 - cos theta_1) 2 pi / W`.
+
+use crate::error::{Error, Result};
+use std::f64::consts::PI;
+
+/// A set of texels covering the sphere, each with a direction and a solid angle.
+pub trait PixelGrid {
+    /// Number of texels (row-major over the image).
+    fn len(&self) -> usize;
+    /// Whether there are no texels.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// Unit direction of texel `i`'s centre.
+    fn direction(&self, i: usize) -> [f64; 3];
+    /// Exact solid angle of texel `i`.
+    fn solid_angle(&self, i: usize) -> f64;
+}
+
+/// Faces of the cube cross.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CubeFace {
+    Front,
+    Right,
+    Back,
+    Left,
+    Up,
+    Down,
+}
+
+impl CubeFace {
+    /// `(forward, right, up)` of the face's camera.
+    pub fn basis(self) -> ([f64; 3], [f64; 3], [f64; 3]) {
+        match self {
+            CubeFace::Front => ([0., 1., 0.], [1., 0., 0.], [0., 0., 1.]),
+            CubeFace::Right => ([1., 0., 0.], [0., -1., 0.], [0., 0., 1.]),
+            CubeFace::Back => ([0., -1., 0.], [-1., 0., 0.], [0., 0., 1.]),
+            CubeFace::Left => ([-1., 0., 0.], [0., 1., 0.], [0., 0., 1.]),
+            CubeFace::Up => ([0., 0., 1.], [1., 0., 0.], [0., -1., 0.]),
+            CubeFace::Down => ([0., 0., -1.], [1., 0., 0.], [0., 1., 0.]),
+        }
+    }
+
+    /// The face at block `(row, col)` of the 3 x 4 cross, if any.
+    pub fn at_block(row: usize, col: usize) -> Option<Self> {
+        match (row, col) {
+            (0, 1) => Some(CubeFace::Up),
+            (1, 0) => Some(CubeFace::Left),
+            (1, 1) => Some(CubeFace::Front),
+            (1, 2) => Some(CubeFace::Right),
+            (1, 3) => Some(CubeFace::Back),
+            (2, 1) => Some(CubeFace::Down),
+            _ => None,
+        }
+    }
+}
+
+/// A cube map stored as a 3 x 4 cross of faces of `edge` x `edge` texels. Texels are
+/// indexed row-major over the whole `3 edge x 4 edge` image; the six unused blocks of
+/// the cross have zero solid angle.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CubeCross {
+    /// Face edge length in texels.
+    pub edge: usize,
+}
+
+impl CubeCross {
+    /// A cross of faces of `edge` texels.
+    pub fn new(edge: usize) -> Result<Self> {
+        if edge == 0 {
+            return Err(Error::GridTooSmall {
+                reason: "a cube map face needs at least one texel".into(),
+            });
+        }
+        Ok(Self { edge })
+    }
+
+    /// The cross layout of an image of `height x width`, which must be `3e x 4e`.
+    pub fn from_image_size(height: usize, width: usize) -> Result<Self> {
+        if height == 0 || height % 3 != 0 || width * 3 != height * 4 {
+            return Err(Error::InvalidArgument {
+                name: "cube cross size",
+                value: format!("{height} x {width}"),
+                reason: "a cube cross has 3e rows and 4e columns".into(),
+            });
+        }
+        Self::new(height / 3)
+    }
+
+    /// Image height `3 edge`.
+    pub fn height(&self) -> usize {
+        3 * self.edge
+    }
+
+    /// Image width `4 edge`.
+    pub fn width(&self) -> usize {
+        4 * self.edge
+    }
+
+    /// The face and face coordinates `(a0, a1, b0, b1)` (texel rectangle on the unit-distance
+    /// plane, `a` to the right, `b` up) of image texel `i`, or `None` off the cross.
+    pub fn texel(&self, i: usize) -> Option<(CubeFace, [f64; 4])> {
+        let e = self.edge;
+        let (row, col) = (i / self.width(), i % self.width());
+        let face = CubeFace::at_block(row / e, col / e)?;
+        let (ti, tj) = ((row % e) as f64, (col % e) as f64);
+        let s = 2.0 / e as f64;
+        Some((
+            face,
+            [
+                tj * s - 1.0,
+                (tj + 1.0) * s - 1.0,
+                1.0 - (ti + 1.0) * s,
+                1.0 - ti * s,
+            ],
+        ))
+    }
+}
+
+fn face_area(a: f64, b: f64) -> f64 {
+    (a * b / (1.0 + a * a + b * b).sqrt()).atan()
+}
+
+impl PixelGrid for CubeCross {
+    fn len(&self) -> usize {
+        self.height() * self.width()
+    }
+
+    fn direction(&self, i: usize) -> [f64; 3] {
+        let Some((face, [a0, a1, b0, b1])) = self.texel(i) else {
+            return [0.0, 0.0, 0.0];
+        };
+        let (f, r, u) = face.basis();
+        let (a, b) = (0.5 * (a0 + a1), 0.5 * (b0 + b1));
+        let v = [0, 1, 2].map(|k| f[k] + a * r[k] + b * u[k]);
+        let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        v.map(|c| c / n)
+    }
+
+    fn solid_angle(&self, i: usize) -> f64 {
+        match self.texel(i) {
+            Some((_, [a0, a1, b0, b1])) => {
+                face_area(a1, b1) - face_area(a0, b1) - face_area(a1, b0) + face_area(a0, b0)
+            }
+            None => 0.0,
+        }
+    }
+}
+
+/// An equirectangular image of `height x width` texels.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Equirect {
+    /// Rows (polar angle).
+    pub height: usize,
+    /// Columns (azimuth).
+    pub width: usize,
+}
+
+impl Equirect {
+    /// An equirectangular grid (both sizes at least 1).
+    pub fn new(height: usize, width: usize) -> Result<Self> {
+        if height == 0 || width == 0 {
+            return Err(Error::GridTooSmall {
+                reason: format!("equirectangular image {height} x {width} is empty"),
+            });
+        }
+        Ok(Self { height, width })
+    }
+}
+
+impl PixelGrid for Equirect {
+    fn len(&self) -> usize {
+        self.height * self.width
+    }
+
+    fn direction(&self, i: usize) -> [f64; 3] {
+        let (row, col) = (i / self.width, i % self.width);
+        let theta = PI * (row as f64 + 0.5) / self.height as f64;
+        let phi = 2.0 * PI * (col as f64 + 0.5) / self.width as f64;
+        crate::sh::harmonics::direction(theta, phi)
+    }
+
+    fn solid_angle(&self, i: usize) -> f64 {
+        let row = i / self.width;
+        let t0 = PI * row as f64 / self.height as f64;
+        let t1 = PI * (row + 1) as f64 / self.height as f64;
+        // cos t0 - cos t1 = 2 sin((t0+t1)/2) sin((t1-t0)/2), without cancellation.
+        2.0 * (0.5 * (t0 + t1)).sin() * (0.5 * (t1 - t0)).sin() * 2.0 * PI / self.width as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn solid_angles_sum_to_the_sphere() {
+        for g in [CubeCross::new(1).unwrap(), CubeCross::new(7).unwrap()] {
+            let s: f64 = (0..g.len()).map(|i| g.solid_angle(i)).sum();
+            assert!((s - 4.0 * PI).abs() < 1e-12, "{s}");
+        }
+        let e = Equirect::new(9, 17).unwrap();
+        let s: f64 = (0..e.len()).map(|i| e.solid_angle(i)).sum();
+        assert!((s - 4.0 * PI).abs() < 1e-12);
+    }
+
+    /// Adjacent faces meet: the texel of Front's top row and the texel of Up's bottom row
+    /// in the same column are neighbours across the edge (their directions are close).
+    #[test]
+    fn cross_faces_are_continuous_across_edges() {
+        let g = CubeCross::new(32).unwrap();
+        let e = g.edge;
+        let w = g.width();
+        let dist = |i: usize, j: usize| {
+            let (a, b) = (g.direction(i), g.direction(j));
+            ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+        };
+        let step = 2.0 / e as f64;
+        for k in [0, 5, e - 1] {
+            // Up bottom row / Front top row, column k of block 1.
+            assert!(dist((e - 1) * w + e + k, e * w + e + k) < 1.5 * step);
+            // Front bottom row / Down top row.
+            assert!(dist((2 * e - 1) * w + e + k, 2 * e * w + e + k) < 1.5 * step);
+            // Front right column / Right left column, row k of block 1.
+            assert!(dist((e + k) * w + 2 * e - 1, (e + k) * w + 2 * e) < 1.5 * step);
+            // Back right column / Left left column (wrap around).
+            assert!(dist((e + k) * w + 4 * e - 1, (e + k) * w) < 1.5 * step);
+        }
+    }
+
+    #[test]
+    fn bad_sizes_are_errors() {
+        assert!(CubeCross::from_image_size(64 * 3, 64 * 3).is_err());
+        assert!(CubeCross::from_image_size(0, 0).is_err());
+        assert!(CubeCross::from_image_size(192, 256).is_ok());
+        assert!(Equirect::new(0, 4).is_err());
+    }
+}

@@ -1,0 +1,3 @@
+//! Geometry: directions, frames and pixel grids on the sphere.
+
+pub mod image_grid;

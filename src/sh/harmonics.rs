@@ -1,0 +1,364 @@
+//! Complex SH `Y_lm` (PSH (1)) and real SH `Y^R_lm` (PSH (12)) at one direction or many.
+//!
+//! - `Y_lm(theta, phi) = Pbar_lm(theta) e^{i m phi}` for `m >= 0` and
+//!   `Y_{l,-m} = (-1)^m conj(Y_lm)`;
+//! - `Y^R_lm = sqrt(2) Re Y_lm` (m > 0), `Y_l0` (m = 0), `sqrt(2) Im Y_{l|m|}` (m < 0).
+//!
+//! Values are stored in flat order `l*l + l + m` ([`super::lm_index`]).
+
+use super::legendre::{for_each_column_accurate, Legendre, Polar};
+use super::{check_theta, lm_index, num_coeffs};
+use crate::error::{check_len, finite, Error, Result};
+use num_complex::Complex64;
+use std::f64::consts::SQRT_2;
+
+/// Tolerance on `|w| - 1` for a direction to count as a unit vector.
+pub const UNIT_TOLERANCE: f64 = 1e-10;
+
+/// Checks a direction: finite components and unit norm within [`UNIT_TOLERANCE`].
+pub fn check_direction(w: [f64; 3]) -> Result<[f64; 3]> {
+    for &c in &w {
+        finite("direction component", c)?;
+    }
+    let norm = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+    if (norm - 1.0).abs() > UNIT_TOLERANCE {
+        return Err(Error::NonUnitDirection { value: w, norm });
+    }
+    Ok(w)
+}
+
+/// `(cos(m phi), sin(m phi))` accurate to a few ulps for any `m`: the product `m phi`
+/// is split exactly into `hi + lo` (an FMA gives the rounding error `lo`), and the
+/// angle-sum formula corrects `cis(hi)` by `lo`.
+#[inline]
+pub fn cis_m(m: usize, phi: f64) -> (f64, f64) {
+    let mf = m as f64;
+    let hi = mf * phi;
+    let lo = mf.mul_add(phi, -hi);
+    let (s, c) = hi.sin_cos();
+    (c - lo * s, s + lo * c)
+}
+
+/// Evaluator of complex and real SH up to a fixed degree.
+///
+/// [`ShEvaluator::new`] holds `f64` Legendre tables (the fast path: relative error about
+/// `l * 1e-16` of the band maximum, e.g. `2e-13` at `l = 1000`); [`ShEvaluator::accurate`]
+/// runs the double-double recursion (a few `1e-15` at any degree, about ten times slower).
+#[derive(Clone, Debug)]
+pub struct ShEvaluator {
+    lmax: usize,
+    /// `None` for the accurate evaluator.
+    legendre: Option<Legendre>,
+}
+
+impl ShEvaluator {
+    /// A fast evaluator for all degrees `l <= lmax`.
+    pub fn new(lmax: usize) -> Result<Self> {
+        Ok(Self {
+            lmax,
+            legendre: Some(Legendre::new(lmax)?),
+        })
+    }
+
+    /// An accurate (double-double) evaluator for all degrees `l <= lmax`; its batch
+    /// evaluation is not vectorized.
+    pub fn accurate(lmax: usize) -> Result<Self> {
+        super::check_lmax(lmax)?;
+        Ok(Self {
+            lmax,
+            legendre: None,
+        })
+    }
+
+    /// The largest degree.
+    pub fn lmax(&self) -> usize {
+        self.lmax
+    }
+
+    /// Walks the Legendre columns at `theta` with the evaluator's precision.
+    fn columns(&self, theta: f64, f: impl FnMut(usize, &[f64])) {
+        match &self.legendre {
+            Some(t) => t.for_each_column(Polar::from_theta(theta), f),
+            None => for_each_column_accurate(self.lmax, Polar::from_theta_accurate(theta), f),
+        }
+    }
+
+    /// Number of coefficients `(lmax + 1)^2`.
+    pub fn len(&self) -> usize {
+        num_coeffs(self.lmax())
+    }
+
+    /// Never empty (degree 0 is always there); for clippy's `len` convention.
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// Complex SH PSH (1) at `(theta, phi)` into `out` (flat order, length `(lmax+1)^2`).
+    pub fn complex(&self, theta: f64, phi: f64, out: &mut [Complex64]) -> Result<()> {
+        check_theta(theta)?;
+        finite("phi", phi)?;
+        check_len("SH output", self.len(), out.len())?;
+        self.columns(theta, |m, col| {
+            let (cm, sm) = cis_m(m, phi);
+            let sign = if m % 2 == 0 { 1.0 } else { -1.0 };
+            for (k, &p) in col.iter().enumerate() {
+                let l = m + k;
+                let y = Complex64::new(p * cm, p * sm);
+                out[lm_index(l, m as i64)] = y;
+                if m > 0 {
+                    out[lm_index(l, -(m as i64))] = sign * y.conj();
+                }
+            }
+        });
+        Ok(())
+    }
+
+    /// Real SH PSH (12) at `(theta, phi)` into `out` (flat order, length `(lmax+1)^2`).
+    pub fn real(&self, theta: f64, phi: f64, out: &mut [f64]) -> Result<()> {
+        check_theta(theta)?;
+        finite("phi", phi)?;
+        check_len("SH output", self.len(), out.len())?;
+        self.columns(theta, |m, col| {
+            let (cm, sm) = cis_m(m, phi);
+            write_real_column(m, col, cm, sm, out);
+        });
+        Ok(())
+    }
+
+    /// Real SH at a batch of unit directions `dirs` (world Cartesian; theta measured from +z,
+    /// phi from +x towards +y), into `out` of length `dirs.len() * (lmax+1)^2`, one row of
+    /// coefficients per direction.
+    ///
+    /// Directions are processed `LANES` at a time with the Legendre recursions in lock
+    /// step ([`Legendre::for_each_column_lanes`]). The accurate evaluator evaluates them
+    /// one by one.
+    pub fn real_batch(&self, dirs: &[[f64; 3]], out: &mut [f64]) -> Result<()> {
+        let n = self.len();
+        check_len("SH batch output", dirs.len() * n, out.len())?;
+        let Some(table) = &self.legendre else {
+            for (w, row) in dirs.iter().zip(out.chunks_exact_mut(n)) {
+                let (theta, phi) = direction_angles(*w)?;
+                self.real(theta, phi, row)?;
+            }
+            return Ok(());
+        };
+        let mut tile = vec![[0.0; LANES]; n];
+        let order = lane_order(self.lmax);
+        for (chunk, rows) in dirs.chunks(LANES).zip(out.chunks_mut(LANES * n)) {
+            let mut polars = [Polar::from_z_rho(1.0, 0.0); LANES];
+            let mut cis = [(1.0, 0.0); LANES];
+            for (j, &w) in chunk.iter().enumerate() {
+                let norm2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+                if (norm2 - 1.0).abs().partial_cmp(&(2.0 * UNIT_TOLERANCE)) != Some(std::cmp::Ordering::Less) {
+                    check_direction(w)?;
+                }
+                let rho = (w[0] * w[0] + w[1] * w[1]).sqrt();
+                polars[j] = Polar::from_z_rho(w[2], rho);
+                if rho > 0.0 {
+                    let inv = 1.0 / rho;
+                    cis[j] = (w[0] * inv, w[1] * inv);
+                }
+            }
+            real_lanes(table, &polars, &cis, &mut tile);
+            for (j, row) in rows.chunks_exact_mut(n).enumerate() {
+                for (o, &src) in row.iter_mut().zip(&order) {
+                    *o = tile[src][j];
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Position in the lane tile of each flat index `l*l + l + m`: the tile is filled in the
+/// order the recursion produces values (m outer, l inner, `+m` then `-m`).
+fn lane_order(lmax: usize) -> Vec<usize> {
+    let mut order = vec![0; num_coeffs(lmax)];
+    let mut pos = 0;
+    for m in 0..=lmax {
+        for l in m..=lmax {
+            order[lm_index(l, m as i64)] = pos;
+            pos += 1;
+            if m > 0 {
+                order[lm_index(l, -(m as i64))] = pos;
+                pos += 1;
+            }
+        }
+    }
+    order
+}
+
+/// Real SH of `LANES` directions (given as polar angles and `e^{i phi}`) into the tile
+/// `tile[pos][lane]`, in the order of [`lane_order`].
+fn real_lanes(
+    table: &Legendre,
+    polars: &[Polar; LANES],
+    cis: &[(f64, f64); LANES],
+    tile: &mut [[f64; LANES]],
+) {
+    let (mut cm, mut sm) = ([1.0f64; LANES], [0.0f64; LANES]);
+    let mut pos = 0;
+    table.for_each_column_lanes(polars, |m, col| {
+        if m > 0 {
+            for j in 0..LANES {
+                let c = cm[j] * cis[j].0 - sm[j] * cis[j].1;
+                sm[j] = cm[j] * cis[j].1 + sm[j] * cis[j].0;
+                cm[j] = c;
+            }
+        }
+        let rc: [f64; LANES] = std::array::from_fn(|j| SQRT_2 * cm[j]);
+        let rs: [f64; LANES] = std::array::from_fn(|j| SQRT_2 * sm[j]);
+        if m == 0 {
+            for (t, p) in tile[pos..].iter_mut().zip(col) {
+                *t = *p;
+            }
+            pos += col.len();
+        } else {
+            for (t, p) in tile[pos..].chunks_exact_mut(2).zip(col) {
+                for j in 0..LANES {
+                    t[0][j] = p[j] * rc[j];
+                    t[1][j] = p[j] * rs[j];
+                }
+            }
+            pos += 2 * col.len();
+        }
+    });
+}
+
+/// Directions per lane group of the batch evaluation.
+const LANES: usize = 16;
+
+/// Writes the real SH of column m (`Pbar_lm` for `l >= m`) given `cos(m phi), sin(m phi)`.
+#[inline]
+fn write_real_column(m: usize, col: &[f64], cm: f64, sm: f64, out: &mut [f64]) {
+    if m == 0 {
+        for (l, &p) in col.iter().enumerate() {
+            out[lm_index(l, 0)] = p;
+        }
+    } else {
+        let (rc, rs) = (SQRT_2 * cm, SQRT_2 * sm);
+        for (k, &p) in col.iter().enumerate() {
+            let l = m + k;
+            out[lm_index(l, m as i64)] = p * rc;
+            out[lm_index(l, -(m as i64))] = p * rs;
+        }
+    }
+}
+
+/// Complex SH PSH (1) of all `l <= lmax` at `(theta, phi)`, flat order (accurate path).
+pub fn sh_complex(lmax: usize, theta: f64, phi: f64) -> Result<Vec<Complex64>> {
+    let ev = ShEvaluator::accurate(lmax)?;
+    let mut out = vec![Complex64::default(); ev.len()];
+    ev.complex(theta, phi, &mut out)?;
+    Ok(out)
+}
+
+/// Real SH PSH (12) of all `l <= lmax` at `(theta, phi)`, flat order (accurate path).
+pub fn sh_real(lmax: usize, theta: f64, phi: f64) -> Result<Vec<f64>> {
+    let ev = ShEvaluator::accurate(lmax)?;
+    let mut out = vec![0.0; ev.len()];
+    ev.real(theta, phi, &mut out)?;
+    Ok(out)
+}
+
+/// Spherical angles `(theta, phi)` of a unit direction (theta from +z, phi from +x
+/// towards +y, in `(-pi, pi]`).
+pub fn direction_angles(w: [f64; 3]) -> Result<(f64, f64)> {
+    check_direction(w)?;
+    let rho = w[0].hypot(w[1]);
+    Ok((rho.atan2(w[2]), w[1].atan2(w[0])))
+}
+
+/// The unit direction of spherical angles `(theta, phi)`.
+pub fn direction(theta: f64, phi: f64) -> [f64; 3] {
+    let (st, ct) = theta.sin_cos();
+    let (sp, cp) = phi.sin_cos();
+    [st * cp, st * sp, ct]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    /// PSH (12) against its complex form, and Y_{l,-m} = (-1)^m conj(Y_lm).
+    #[test]
+    fn real_and_complex_agree_with_psh_12() {
+        let lmax = 30;
+        for &(t, p) in &[
+            (0.3, 1.1),
+            (PI / 2.0, -2.0),
+            (0.0, 0.5),
+            (PI, 3.0),
+            (2.9, 0.0),
+        ] {
+            let yc = sh_complex(lmax, t, p).unwrap();
+            let yr = sh_real(lmax, t, p).unwrap();
+            for l in 0..=lmax {
+                for m in -(l as i64)..=l as i64 {
+                    let sign = if m % 2 == 0 { 1.0 } else { -1.0 };
+                    let y = yc[lm_index(l, m)];
+                    let ym = yc[lm_index(l, -m)];
+                    assert!((ym - sign * y.conj()).norm() < 1e-15);
+                    let expect = match m.signum() {
+                        1 => (y + sign * ym) / SQRT_2,
+                        0 => y,
+                        _ => Complex64::i() * (sign * y - ym) / SQRT_2,
+                    };
+                    assert!(expect.im.abs() < 1e-14);
+                    assert!(
+                        (yr[lm_index(l, m)] - expect.re).abs() < 1e-14,
+                        "l {l} m {m}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn batch_matches_single_direction_including_poles() {
+        let lmax = 25;
+        let ev = ShEvaluator::new(lmax).unwrap();
+        let mut dirs: Vec<[f64; 3]> = (0..37)
+            .map(|i| direction(PI * i as f64 / 36.0, 0.7 * i as f64 - 3.0))
+            .collect();
+        dirs.push([0.0, 0.0, 1.0]);
+        dirs.push([1e-200, 0.0, 1.0]);
+        dirs.push([0.0, 0.0, -1.0]);
+        let n = ev.len();
+        let mut batch = vec![0.0; dirs.len() * n];
+        ev.real_batch(&dirs, &mut batch).unwrap();
+        let mut one = vec![0.0; n];
+        for (i, &w) in dirs.iter().enumerate() {
+            let (t, p) = direction_angles(w).unwrap();
+            ev.real(t, p, &mut one).unwrap();
+            for j in 0..n {
+                assert!(
+                    (batch[i * n + j] - one[j]).abs() < 1e-13,
+                    "dir {i} index {j}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn cis_m_is_accurate_at_high_order() {
+        let phi = 2.9;
+        for m in [1usize, 1000, 4096] {
+            let (c, s) = cis_m(m, phi);
+            assert!((c * c + s * s - 1.0).abs() < 1e-15);
+        }
+        let (c, s) = cis_m(3, PI / 2.0);
+        assert!(c.abs() < 1e-15 && (s + 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn bad_directions_are_errors() {
+        let ev = ShEvaluator::new(2).unwrap();
+        let mut out = vec![0.0; 9];
+        assert!(ev.real_batch(&[[1.0, 1.0, 0.0]], &mut out).is_err());
+        assert!(ev.real_batch(&[[f64::NAN, 0.0, 1.0]], &mut out).is_err());
+        assert!(ev.real(f64::INFINITY, 0.0, &mut out).is_err());
+        assert!(ev.real(0.1, 0.0, &mut out[..4]).is_err());
+    }
+}

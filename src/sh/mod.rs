@@ -1,0 +1,104 @@
+//! Scalar spherical harmonics: Legendre functions, complex and real SH, Wigner D
+//! rotations, exact quadrature and transforms, Gaunt coefficients, zonal harmonics.
+//!
+//! Conventions (see `docs/conventions.md`): `Y_lm = A_lm P_l^m(cos theta) e^{i m phi}`
+//! with the Condon-Shortley phase in `P_l^m` (PSH (1)); real SH by PSH (12); coefficients
+//! stored in flat order `l*l + l + m`.
+
+pub mod gaunt;
+pub mod grid;
+pub mod harmonics;
+pub mod legendre;
+pub mod pixel;
+pub mod transform;
+pub mod wigner;
+pub mod zonal;
+
+use crate::error::{Error, Result};
+
+/// Largest degree any routine of this module accepts. Tables of recursion
+/// coefficients take `O(MAX_DEGREE^2)` memory (about 270 MB at this limit).
+pub const MAX_DEGREE: usize = 8192;
+
+/// Flat index of `(l, m)`: `l*l + l + m`.
+#[inline]
+pub const fn lm_index(l: usize, m: i64) -> usize {
+    (l * l + l).wrapping_add_signed(m as isize)
+}
+
+/// Number of coefficients of degrees `l <= lmax`: `(lmax + 1)^2`.
+#[inline]
+pub const fn num_coeffs(lmax: usize) -> usize {
+    (lmax + 1) * (lmax + 1)
+}
+
+/// `(l, m)` of a flat index (inverse of [`lm_index`]).
+#[inline]
+pub fn lm_of_index(i: usize) -> (usize, i64) {
+    let mut l = (i as f64).sqrt() as usize;
+    while l * l > i {
+        l -= 1;
+    }
+    while (l + 1) * (l + 1) <= i {
+        l += 1;
+    }
+    (l, i as i64 - (l * l + l) as i64)
+}
+
+/// Checks `lmax <= MAX_DEGREE`.
+pub fn check_lmax(lmax: usize) -> Result<()> {
+    if lmax > MAX_DEGREE {
+        return Err(Error::DegreeOutOfRange {
+            name: "lmax",
+            value: lmax as i64,
+            reason: format!("the largest supported degree is {MAX_DEGREE}"),
+        });
+    }
+    Ok(())
+}
+
+/// Checks `0 <= l` and `|m| <= l`.
+pub fn check_lm(l: i64, m: i64) -> Result<()> {
+    if l < 0 {
+        return Err(Error::DegreeOutOfRange {
+            name: "l",
+            value: l,
+            reason: "degrees are non-negative".into(),
+        });
+    }
+    if m.abs() > l {
+        return Err(Error::OrderOutOfRange { name: "m", l, m });
+    }
+    Ok(())
+}
+
+/// Checks a polar angle: finite and in `[0, pi]`.
+pub fn check_theta(theta: f64) -> Result<f64> {
+    crate::error::finite("theta", theta)?;
+    if !(0.0..=std::f64::consts::PI).contains(&theta) {
+        return Err(Error::InvalidArgument {
+            name: "theta",
+            value: theta.to_string(),
+            reason: "the polar angle must lie in [0, pi]".into(),
+        });
+    }
+    Ok(theta)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flat_index_round_trips() {
+        let mut i = 0;
+        for l in 0..40usize {
+            for m in -(l as i64)..=l as i64 {
+                assert_eq!(lm_index(l, m), i);
+                assert_eq!(lm_of_index(i), (l, m));
+                i += 1;
+            }
+        }
+        assert_eq!(i, num_coeffs(39));
+    }
+}

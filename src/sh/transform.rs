@@ -1,0 +1,376 @@
+//! Spherical harmonic transforms on the exact grid ([`SphereGrid`]): synthesis PSH (2)
+//! and analysis PSH (3), for complex and real coefficients.
+//!
+//! Both factor into a Legendre sum per ring and an FFT per ring (rustfft):
+//! synthesis `f(theta_j, phi_k) = sum_m e^{i m phi_k} sum_l f_lm Pbar_lm(theta_j)`,
+//! analysis `f_lm = sum_j w_j (2 pi / n_phi) Pbar_lm(theta_j) sum_k f(theta_j, phi_k) e^{-i m phi_k}`,
+//! exact for band-limited input on a grid that resolves the band limit (see
+//! [`super::grid`]). The rings come in mirror pairs `theta, pi - theta` on which
+//! `Pbar_lm(pi - theta) = (-1)^{l+m} Pbar_lm(theta)` (DLMF 14.7.17), so each Legendre
+//! column serves two rings. Real fields pack the two rings of a pair into one complex FFT.
+
+use super::grid::SphereGrid;
+use super::legendre::{Legendre, Polar};
+use super::{lm_index, num_coeffs};
+use crate::error::{check_len, Result};
+use num_complex::Complex64;
+use rustfft::{Fft, FftPlanner};
+use std::f64::consts::{FRAC_1_SQRT_2, SQRT_2};
+use std::sync::Arc;
+
+/// A planned transform pair for band limit `lmax` on a grid.
+pub struct ShTransform {
+    lmax: usize,
+    grid: SphereGrid,
+    legendre: Legendre,
+    forward: Arc<dyn Fft<f64>>,
+    inverse: Arc<dyn Fft<f64>>,
+}
+
+impl std::fmt::Debug for ShTransform {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ShTransform")
+            .field("lmax", &self.lmax)
+            .field("n_theta", &self.grid.rings.len())
+            .field("n_phi", &self.grid.n_phi)
+            .finish()
+    }
+}
+
+/// Ring pairs `(north, south)`; the middle ring of an odd rule pairs with itself.
+fn ring_pairs(n: usize) -> impl Iterator<Item = (usize, usize)> {
+    (0..n.div_ceil(2)).map(move |j| (j, n - 1 - j))
+}
+
+impl ShTransform {
+    /// Transform for band limit `lmax` on the smallest exact grid
+    /// ([`SphereGrid::for_band_limit`]).
+    pub fn new(lmax: usize) -> Result<Self> {
+        Self::with_grid(lmax, SphereGrid::for_band_limit(lmax)?)
+    }
+
+    /// Transform for band limit `lmax` on a given grid (checked to resolve it).
+    pub fn with_grid(lmax: usize, grid: SphereGrid) -> Result<Self> {
+        grid.check_band_limit(lmax)?;
+        let mut planner = FftPlanner::new();
+        Ok(Self {
+            lmax,
+            legendre: Legendre::new(lmax)?,
+            forward: planner.plan_fft_forward(grid.n_phi),
+            inverse: planner.plan_fft_inverse(grid.n_phi),
+            grid,
+        })
+    }
+
+    /// The band limit.
+    pub fn lmax(&self) -> usize {
+        self.lmax
+    }
+
+    /// The grid (values are ring-major, index `j * n_phi + k`).
+    pub fn grid(&self) -> &SphereGrid {
+        &self.grid
+    }
+
+    /// Index of frequency `m` (possibly negative) in an FFT buffer.
+    fn bin(&self, m: i64) -> usize {
+        m.rem_euclid(self.grid.n_phi as i64) as usize
+    }
+
+    /// Synthesis PSH (2) of complex coefficients (flat order) onto the grid.
+    pub fn synthesis_complex(&self, coeffs: &[Complex64], out: &mut [Complex64]) -> Result<()> {
+        check_len("coefficients", num_coeffs(self.lmax), coeffs.len())?;
+        check_len("grid values", self.grid.len(), out.len())?;
+        let (lmax, np) = (self.lmax, self.grid.n_phi);
+        let packed = pack_m_major(lmax, |l, m| coeffs[lm_index(l, m)]);
+        let mut north = vec![Complex64::default(); np];
+        let mut south = vec![Complex64::default(); np];
+        let r = &self.grid.rings;
+        for (jn, js) in ring_pairs(r.len()) {
+            north.fill(Complex64::default());
+            south.fill(Complex64::default());
+            self.legendre
+                .for_each_column(Polar::from_theta(r.theta[jn]), |m, col| {
+                    let sign = if m % 2 == 0 { 1.0 } else { -1.0 };
+                    let orders: &[(i64, f64)] = if m == 0 {
+                        &[(0, 1.0)]
+                    } else {
+                        &[(m as i64, 1.0), (-(m as i64), sign)]
+                    };
+                    for &(mm, s) in orders {
+                        let (e, o) = parity_dot(col, packed.column(mm));
+                        north[self.bin(mm)] = s * (e + o);
+                        south[self.bin(mm)] = s * (e - o);
+                    }
+                });
+            self.inverse.process(&mut north);
+            out[jn * np..(jn + 1) * np].copy_from_slice(&north);
+            if js != jn {
+                self.inverse.process(&mut south);
+                out[js * np..(js + 1) * np].copy_from_slice(&south);
+            }
+        }
+        Ok(())
+    }
+
+    /// Analysis PSH (3) of complex grid values into coefficients (flat order).
+    pub fn analysis_complex(&self, values: &[Complex64], out: &mut [Complex64]) -> Result<()> {
+        check_len("grid values", self.grid.len(), values.len())?;
+        check_len("coefficients", num_coeffs(self.lmax), out.len())?;
+        let np = self.grid.n_phi;
+        out.fill(Complex64::default());
+        let mut north = vec![Complex64::default(); np];
+        let mut south = vec![Complex64::default(); np];
+        let r = &self.grid.rings;
+        for (jn, js) in ring_pairs(r.len()) {
+            let w = self.grid.weight(jn);
+            north.copy_from_slice(&values[jn * np..(jn + 1) * np]);
+            self.forward.process(&mut north);
+            if js != jn {
+                south.copy_from_slice(&values[js * np..(js + 1) * np]);
+                self.forward.process(&mut south);
+            } else {
+                south.fill(Complex64::default());
+            }
+            self.legendre
+                .for_each_column(Polar::from_theta(r.theta[jn]), |m, col| {
+                    let sign = if m % 2 == 0 { 1.0 } else { -1.0 };
+                    let orders: &[(i64, f64)] = if m == 0 {
+                        &[(0, 1.0)]
+                    } else {
+                        &[(m as i64, 1.0), (-(m as i64), sign)]
+                    };
+                    for &(mm, s) in orders {
+                        let (gn, gs) = (north[self.bin(mm)], south[self.bin(mm)]);
+                        let (even, odd) = ((gn + gs) * (w * s), (gn - gs) * (w * s));
+                        for (k, &p) in col.iter().enumerate() {
+                            let g = if k % 2 == 0 { even } else { odd };
+                            out[lm_index(m + k, mm)] += g * p;
+                        }
+                    }
+                });
+        }
+        Ok(())
+    }
+
+    /// Synthesis PSH (2) of real coefficients (real SH PSH (12)) onto the grid.
+    pub fn synthesis_real(&self, coeffs: &[f64], out: &mut [f64]) -> Result<()> {
+        check_len("coefficients", num_coeffs(self.lmax), coeffs.len())?;
+        check_len("grid values", self.grid.len(), out.len())?;
+        let np = self.grid.n_phi;
+        // With A_m, B_m the cosine and sine Legendre sums (sqrt(2) folded in for m > 0),
+        // f(phi) = A_0 + sum_{m > 0} (C_m e^{i m phi} + conj(C_m) e^{-i m phi}),
+        // C_m = (A_m - i B_m) / 2: the factor sqrt(2)/2 = 1/sqrt(2) is folded in below.
+        let packed = pack_m_major(self.lmax, |l, m| {
+            let fm = coeffs[lm_index(l, m.abs())];
+            let fs = if m == 0 {
+                0.0
+            } else {
+                coeffs[lm_index(l, -m.abs())]
+            };
+            let scale = if m == 0 { 1.0 } else { FRAC_1_SQRT_2 };
+            Complex64::new(scale * fm, -scale * fs)
+        });
+        let mut z = vec![Complex64::default(); np];
+        let r = &self.grid.rings;
+        for (jn, js) in ring_pairs(r.len()) {
+            z.fill(Complex64::default());
+            self.legendre
+                .for_each_column(Polar::from_theta(r.theta[jn]), |m, col| {
+                    let (e, o) = parity_dot(col, packed.column(m as i64));
+                    // Pack: z = f_north + i f_south, spectrum Z_m = N_m + i S_m at m and
+                    // conj(N_m) + i conj(S_m) at -m.
+                    let (cn, cs) = (e + o, e - o);
+                    if m == 0 {
+                        z[0] = Complex64::new(cn.re, cs.re);
+                    } else {
+                        let i = Complex64::i();
+                        z[self.bin(m as i64)] += cn + i * cs;
+                        z[self.bin(-(m as i64))] += cn.conj() + i * cs.conj();
+                    }
+                });
+            self.inverse.process(&mut z);
+            for (k, v) in z.iter().enumerate() {
+                out[jn * np + k] = v.re;
+                if js != jn {
+                    out[js * np + k] = v.im;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Analysis PSH (3) of a real field into real coefficients (real SH PSH (12)).
+    pub fn analysis_real(&self, values: &[f64], out: &mut [f64]) -> Result<()> {
+        check_len("grid values", self.grid.len(), values.len())?;
+        check_len("coefficients", num_coeffs(self.lmax), out.len())?;
+        let np = self.grid.n_phi;
+        out.fill(0.0);
+        let mut z = vec![Complex64::default(); np];
+        let r = &self.grid.rings;
+        for (jn, js) in ring_pairs(r.len()) {
+            let w = self.grid.weight(jn);
+            for k in 0..np {
+                let s = if js != jn { values[js * np + k] } else { 0.0 };
+                z[k] = Complex64::new(values[jn * np + k], s);
+            }
+            self.forward.process(&mut z);
+            self.legendre
+                .for_each_column(Polar::from_theta(r.theta[jn]), |m, col| {
+                    // Unpack G_north(m), G_south(m) from Z_m and conj(Z_{-m}).
+                    let zp = z[self.bin(m as i64)];
+                    let zm = z[self.bin(-(m as i64))].conj();
+                    let gn = 0.5 * (zp + zm);
+                    let gs = Complex64::new(0.0, -0.5) * (zp - zm);
+                    let scale = if m == 0 { w } else { w * SQRT_2 };
+                    let (even, odd) = ((gn + gs) * scale, (gn - gs) * scale);
+                    for (k, &p) in col.iter().enumerate() {
+                        let l = m + k;
+                        let g = if k % 2 == 0 { even } else { odd };
+                        // cos part: Re G; sin part: -Im G (integral of f sin(m phi)).
+                        out[lm_index(l, m as i64)] += p * g.re;
+                        if m > 0 {
+                            out[lm_index(l, -(m as i64))] -= p * g.im;
+                        }
+                    }
+                });
+        }
+        Ok(())
+    }
+}
+
+/// Coefficients regrouped by order: for each `m` in `-lmax..=lmax`, the values at
+/// `l = |m|..=lmax`, contiguous (the Legendre sums run along `l`).
+struct MMajor {
+    lmax: usize,
+    data: Vec<Complex64>,
+    offsets: Vec<usize>,
+}
+
+impl MMajor {
+    fn column(&self, m: i64) -> &[Complex64] {
+        let i = (m + self.lmax as i64) as usize;
+        &self.data[self.offsets[i]..self.offsets[i + 1]]
+    }
+}
+
+fn pack_m_major(lmax: usize, f: impl Fn(usize, i64) -> Complex64) -> MMajor {
+    let li = lmax as i64;
+    let mut data = Vec::with_capacity(num_coeffs(lmax));
+    let mut offsets = Vec::with_capacity(2 * lmax + 2);
+    for m in -li..=li {
+        offsets.push(data.len());
+        data.extend((m.unsigned_abs() as usize..=lmax).map(|l| f(l, m)));
+    }
+    offsets.push(data.len());
+    MMajor {
+        lmax,
+        data,
+        offsets,
+    }
+}
+
+/// `(sum over even k, sum over odd k)` of `col[k] * c[k]`.
+#[inline]
+fn parity_dot(col: &[f64], c: &[Complex64]) -> (Complex64, Complex64) {
+    let mut e = Complex64::default();
+    let mut o = Complex64::default();
+    let mut pairs = col.chunks_exact(2).zip(c.chunks_exact(2));
+    for (p, v) in &mut pairs {
+        e += v[0] * p[0];
+        o += v[1] * p[1];
+    }
+    if col.len() % 2 == 1 {
+        e += c[col.len() - 1] * col[col.len() - 1];
+    }
+    (e, o)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sh::harmonics::ShEvaluator;
+
+    fn pseudo_random(n: usize, seed: u64) -> Vec<f64> {
+        let mut x = seed;
+        (0..n)
+            .map(|_| {
+                x = x
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                ((x >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+            })
+            .collect()
+    }
+
+    #[test]
+    fn real_synthesis_matches_pointwise_evaluation() {
+        let lmax = 9;
+        let t = ShTransform::new(lmax).unwrap();
+        let c = pseudo_random(num_coeffs(lmax), 3);
+        let mut f = vec![0.0; t.grid().len()];
+        t.synthesis_real(&c, &mut f).unwrap();
+        let ev = ShEvaluator::new(lmax).unwrap();
+        let mut y = vec![0.0; ev.len()];
+        for i in 0..t.grid().len() {
+            let (th, ph) = t.grid().angles(i);
+            ev.real(th, ph, &mut y).unwrap();
+            let v: f64 = y.iter().zip(&c).map(|(a, b)| a * b).sum();
+            assert!((v - f[i]).abs() < 1e-13, "point {i}: {v} vs {}", f[i]);
+        }
+    }
+
+    #[test]
+    fn complex_synthesis_matches_pointwise_evaluation() {
+        let lmax = 8;
+        let t = ShTransform::with_grid(lmax, SphereGrid::new(10, 19).unwrap()).unwrap();
+        let re = pseudo_random(num_coeffs(lmax), 5);
+        let im = pseudo_random(num_coeffs(lmax), 6);
+        let c: Vec<Complex64> = re
+            .iter()
+            .zip(&im)
+            .map(|(&a, &b)| Complex64::new(a, b))
+            .collect();
+        let mut f = vec![Complex64::default(); t.grid().len()];
+        t.synthesis_complex(&c, &mut f).unwrap();
+        let ev = ShEvaluator::new(lmax).unwrap();
+        let mut y = vec![Complex64::default(); ev.len()];
+        for i in 0..t.grid().len() {
+            let (th, ph) = t.grid().angles(i);
+            ev.complex(th, ph, &mut y).unwrap();
+            let v: Complex64 = y.iter().zip(&c).map(|(a, b)| a * b).sum();
+            assert!((v - f[i]).norm() < 1e-13, "point {i}");
+        }
+    }
+
+    #[test]
+    fn round_trips_are_exact_on_band_limited_input() {
+        for lmax in [0usize, 1, 2, 7, 32] {
+            let t = ShTransform::new(lmax).unwrap();
+            let c = pseudo_random(num_coeffs(lmax), 11 + lmax as u64);
+            let mut f = vec![0.0; t.grid().len()];
+            t.synthesis_real(&c, &mut f).unwrap();
+            let mut back = vec![0.0; c.len()];
+            t.analysis_real(&f, &mut back).unwrap();
+            for (a, b) in c.iter().zip(&back) {
+                assert!((a - b).abs() < 1e-13, "lmax {lmax}: {a} vs {b}");
+            }
+            let cc: Vec<Complex64> = c.iter().map(|&x| Complex64::new(x, -0.5 * x)).collect();
+            let mut fc = vec![Complex64::default(); t.grid().len()];
+            t.synthesis_complex(&cc, &mut fc).unwrap();
+            let mut backc = vec![Complex64::default(); cc.len()];
+            t.analysis_complex(&fc, &mut backc).unwrap();
+            for (a, b) in cc.iter().zip(&backc) {
+                assert!((a - b).norm() < 1e-13, "lmax {lmax} complex");
+            }
+        }
+    }
+
+    #[test]
+    fn mismatched_lengths_are_errors() {
+        let t = ShTransform::new(3).unwrap();
+        let mut f = vec![0.0; t.grid().len()];
+        assert!(t.synthesis_real(&[0.0; 3], &mut f).is_err());
+        assert!(ShTransform::with_grid(5, SphereGrid::new(3, 20).unwrap()).is_err());
+    }
+}

@@ -1,0 +1,93 @@
+//! `psh verify`: the checks a user can run on their own machine.
+//!
+//! Each check computes a maximum error against an independent reference (an exact
+//! identity, a high-precision oracle, or the angular-domain equivalent on an exact
+//! quadrature grid) and compares it with a stated tolerance. The JSON form is the
+//! contract of DESIGN.md: `{"id", "source", "description", "max_error", "tolerance",
+//! "passed"}` (plus `"proof"`, the derivation's page in `proofs/`, when there is one).
+
+mod oracle;
+mod sh;
+
+use crate::error::Result;
+use serde::Serialize;
+
+/// One check: what it verifies, against what, and how.
+pub struct Check {
+    /// Stable identifier, e.g. `sh.orthonormality`.
+    pub id: &'static str,
+    /// Paper tag and equation or figure, e.g. `PSH (9)`.
+    pub source: &'static str,
+    /// What is compared with what.
+    pub description: &'static str,
+    /// Largest acceptable error.
+    pub tolerance: f64,
+    /// Derivation page in `proofs/`, if the formula is not printed in the papers.
+    pub proof: Option<&'static str>,
+    /// Computes the maximum error.
+    pub run: fn() -> Result<f64>,
+}
+
+/// The outcome of a check (the JSON record of `psh verify --json`).
+#[derive(Clone, Debug, Serialize)]
+pub struct CheckResult {
+    pub id: String,
+    pub source: String,
+    pub description: String,
+    pub max_error: f64,
+    pub tolerance: f64,
+    pub passed: bool,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub proof: Option<String>,
+    /// Set when the check could not run (its error message); the check then fails.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+}
+
+/// Every check, in a stable order.
+pub fn checks() -> Vec<Check> {
+    sh::checks()
+}
+
+impl Check {
+    /// Runs the check. An error, a NaN or an error above tolerance all fail.
+    pub fn evaluate(&self) -> CheckResult {
+        let (max_error, error) = match (self.run)() {
+            Ok(e) => (e, None),
+            Err(e) => (f64::NAN, Some(e.to_string())),
+        };
+        CheckResult {
+            id: self.id.into(),
+            source: self.source.into(),
+            description: self.description.into(),
+            max_error,
+            tolerance: self.tolerance,
+            passed: error.is_none() && max_error <= self.tolerance,
+            proof: self.proof.map(Into::into),
+            error,
+        }
+    }
+}
+
+/// Runs the checks whose id contains `filter` (all when `None`).
+pub fn run(filter: Option<&str>) -> Vec<CheckResult> {
+    checks()
+        .iter()
+        .filter(|c| filter.is_none_or(|f| c.id.contains(f)))
+        .map(Check::evaluate)
+        .collect()
+}
+
+/// Deterministic pseudo-random numbers in `[-1, 1)` (a 64-bit LCG), for reproducible
+/// test inputs without a dependency.
+pub fn pseudo_random(n: usize, seed: u64) -> Vec<f64> {
+    let mut x = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15).wrapping_add(1);
+    (0..n)
+        .map(|_| {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((x >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+        })
+        .collect()
+}

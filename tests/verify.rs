@@ -1,0 +1,44 @@
+//! Runs every `psh verify` check in the test suite, one test per group, so that
+//! `cargo test` fails exactly when `psh verify` would.
+
+fn run_group(prefix: &str) {
+    let results = psh::verify::run(Some(prefix));
+    assert!(!results.is_empty(), "no check matches {prefix}");
+    for r in &results {
+        println!(
+            "{:<28} {:<16} max error {:>9.2e}  tolerance {:>7.0e}  {}",
+            r.id,
+            r.source,
+            r.max_error,
+            r.tolerance,
+            if r.passed { "pass" } else { "FAIL" }
+        );
+    }
+    let failed: Vec<_> = results.iter().filter(|r| !r.passed).collect();
+    assert!(failed.is_empty(), "failed checks: {failed:#?}");
+}
+
+#[test]
+fn verify_sh() {
+    run_group("sh.");
+}
+
+#[test]
+fn verify_wigner() {
+    run_group("wigner.");
+}
+
+#[test]
+fn verify_transform() {
+    run_group("transform.");
+}
+
+#[test]
+fn verify_zonal() {
+    run_group("zonal.");
+}
+
+#[test]
+fn verify_gaunt() {
+    run_group("gaunt.");
+}
