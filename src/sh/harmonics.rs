@@ -143,13 +143,14 @@ impl ShEvaluator {
             return Ok(());
         };
         let mut tile = vec![[0.0; LANES]; n];
-        let order = lane_order(self.lmax);
         for (chunk, rows) in dirs.chunks(LANES).zip(out.chunks_mut(LANES * n)) {
             let mut polars = [Polar::from_z_rho(1.0, 0.0); LANES];
             let mut cis = [(1.0, 0.0); LANES];
             for (j, &w) in chunk.iter().enumerate() {
                 let norm2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-                if (norm2 - 1.0).abs().partial_cmp(&(2.0 * UNIT_TOLERANCE)) != Some(std::cmp::Ordering::Less) {
+                if (norm2 - 1.0).abs().partial_cmp(&(2.0 * UNIT_TOLERANCE))
+                    != Some(std::cmp::Ordering::Less)
+                {
                     check_direction(w)?;
                 }
                 let rho = (w[0] * w[0] + w[1] * w[1]).sqrt();
@@ -161,8 +162,8 @@ impl ShEvaluator {
             }
             real_lanes(table, &polars, &cis, &mut tile);
             for (j, row) in rows.chunks_exact_mut(n).enumerate() {
-                for (o, &src) in row.iter_mut().zip(&order) {
-                    *o = tile[src][j];
+                for (o, t) in row.iter_mut().zip(&tile) {
+                    *o = t[j];
                 }
             }
         }
@@ -170,26 +171,8 @@ impl ShEvaluator {
     }
 }
 
-/// Position in the lane tile of each flat index `l*l + l + m`: the tile is filled in the
-/// order the recursion produces values (m outer, l inner, `+m` then `-m`).
-fn lane_order(lmax: usize) -> Vec<usize> {
-    let mut order = vec![0; num_coeffs(lmax)];
-    let mut pos = 0;
-    for m in 0..=lmax {
-        for l in m..=lmax {
-            order[lm_index(l, m as i64)] = pos;
-            pos += 1;
-            if m > 0 {
-                order[lm_index(l, -(m as i64))] = pos;
-                pos += 1;
-            }
-        }
-    }
-    order
-}
-
 /// Real SH of `LANES` directions (given as polar angles and `e^{i phi}`) into the tile
-/// `tile[pos][lane]`, in the order of [`lane_order`].
+/// `tile[l*l + l + m][lane]`.
 fn real_lanes(
     table: &Legendre,
     polars: &[Polar; LANES],
@@ -197,7 +180,6 @@ fn real_lanes(
     tile: &mut [[f64; LANES]],
 ) {
     let (mut cm, mut sm) = ([1.0f64; LANES], [0.0f64; LANES]);
-    let mut pos = 0;
     table.for_each_column_lanes(polars, |m, col| {
         if m > 0 {
             for j in 0..LANES {
@@ -208,19 +190,20 @@ fn real_lanes(
         }
         let rc: [f64; LANES] = std::array::from_fn(|j| SQRT_2 * cm[j]);
         let rs: [f64; LANES] = std::array::from_fn(|j| SQRT_2 * sm[j]);
-        if m == 0 {
-            for (t, p) in tile[pos..].iter_mut().zip(col) {
-                *t = *p;
-            }
-            pos += col.len();
-        } else {
-            for (t, p) in tile[pos..].chunks_exact_mut(2).zip(col) {
+        for (k, p) in col.iter().enumerate() {
+            let l = m + k;
+            if m == 0 {
+                tile[lm_index(l, 0)] = *p;
+            } else {
+                let t = &mut tile[lm_index(l, m as i64)];
                 for j in 0..LANES {
-                    t[0][j] = p[j] * rc[j];
-                    t[1][j] = p[j] * rs[j];
+                    t[j] = p[j] * rc[j];
+                }
+                let t = &mut tile[lm_index(l, -(m as i64))];
+                for j in 0..LANES {
+                    t[j] = p[j] * rs[j];
                 }
             }
-            pos += 2 * col.len();
         }
     });
 }

@@ -77,37 +77,57 @@ impl ShTransform {
         m.rem_euclid(self.grid.n_phi as i64) as usize
     }
 
+    /// Ring pairs in blocks of `RINGS` lanes: `(polars, pairs)`; a short last block repeats
+    /// its last ring in the unused lanes (their results are dropped).
+    fn ring_blocks(&self) -> Vec<RingBlock> {
+        let r = &self.grid.rings;
+        let pairs: Vec<(usize, usize)> = ring_pairs(r.len()).collect();
+        pairs
+            .chunks(RINGS)
+            .map(|c| {
+                let polars =
+                    std::array::from_fn(|j| Polar::from_theta(r.theta[c[j.min(c.len() - 1)].0]));
+                (polars, c.to_vec())
+            })
+            .collect()
+    }
+
     /// Synthesis PSH (2) of complex coefficients (flat order) onto the grid.
     pub fn synthesis_complex(&self, coeffs: &[Complex64], out: &mut [Complex64]) -> Result<()> {
         check_len("coefficients", num_coeffs(self.lmax), coeffs.len())?;
         check_len("grid values", self.grid.len(), out.len())?;
-        let (lmax, np) = (self.lmax, self.grid.n_phi);
-        let packed = pack_m_major(lmax, |l, m| coeffs[lm_index(l, m)]);
-        let mut north = vec![Complex64::default(); np];
-        let mut south = vec![Complex64::default(); np];
-        let r = &self.grid.rings;
-        for (jn, js) in ring_pairs(r.len()) {
-            north.fill(Complex64::default());
-            south.fill(Complex64::default());
-            self.legendre
-                .for_each_column(Polar::from_theta(r.theta[jn]), |m, col| {
-                    let sign = if m % 2 == 0 { 1.0 } else { -1.0 };
-                    let orders: &[(i64, f64)] = if m == 0 {
-                        &[(0, 1.0)]
-                    } else {
-                        &[(m as i64, 1.0), (-(m as i64), sign)]
-                    };
-                    for &(mm, s) in orders {
-                        let (e, o) = parity_dot(col, packed.column(mm));
-                        north[self.bin(mm)] = s * (e + o);
-                        south[self.bin(mm)] = s * (e - o);
+        let np = self.grid.n_phi;
+        let packed = pack_m_major(self.lmax, |l, m| coeffs[lm_index(l, m)]);
+        let mut north = vec![vec![Complex64::default(); np]; RINGS];
+        let mut south = north.clone();
+        for (polars, pairs) in self.ring_blocks() {
+            north
+                .iter_mut()
+                .chain(south.iter_mut())
+                .for_each(|v| v.fill(Complex64::default()));
+            self.legendre.for_each_column_lanes(&polars, |m, col| {
+                let sign = if m % 2 == 0 { 1.0 } else { -1.0 };
+                let orders: &[(i64, f64)] = if m == 0 {
+                    &[(0, 1.0)]
+                } else {
+                    &[(m as i64, 1.0), (-(m as i64), sign)]
+                };
+                for &(mm, s) in orders {
+                    let (e, o) = parity_dot_lanes(col, packed.column(mm));
+                    let b = self.bin(mm);
+                    for j in 0..pairs.len() {
+                        north[j][b] = s * (e[j] + o[j]);
+                        south[j][b] = s * (e[j] - o[j]);
                     }
-                });
-            self.inverse.process(&mut north);
-            out[jn * np..(jn + 1) * np].copy_from_slice(&north);
-            if js != jn {
-                self.inverse.process(&mut south);
-                out[js * np..(js + 1) * np].copy_from_slice(&south);
+                }
+            });
+            for (j, &(jn, js)) in pairs.iter().enumerate() {
+                self.inverse.process(&mut north[j]);
+                out[jn * np..(jn + 1) * np].copy_from_slice(&north[j]);
+                if js != jn {
+                    self.inverse.process(&mut south[j]);
+                    out[js * np..(js + 1) * np].copy_from_slice(&south[j]);
+                }
             }
         }
         Ok(())
@@ -118,37 +138,46 @@ impl ShTransform {
         check_len("grid values", self.grid.len(), values.len())?;
         check_len("coefficients", num_coeffs(self.lmax), out.len())?;
         let np = self.grid.n_phi;
-        out.fill(Complex64::default());
-        let mut north = vec![Complex64::default(); np];
-        let mut south = vec![Complex64::default(); np];
-        let r = &self.grid.rings;
-        for (jn, js) in ring_pairs(r.len()) {
-            let w = self.grid.weight(jn);
-            north.copy_from_slice(&values[jn * np..(jn + 1) * np]);
-            self.forward.process(&mut north);
-            if js != jn {
-                south.copy_from_slice(&values[js * np..(js + 1) * np]);
-                self.forward.process(&mut south);
-            } else {
-                south.fill(Complex64::default());
+        let mut acc = pack_m_major(self.lmax, |_, _| Complex64::default());
+        let mut north = vec![vec![Complex64::default(); np]; RINGS];
+        let mut south = north.clone();
+        for (polars, pairs) in self.ring_blocks() {
+            let mut w = [0.0; RINGS];
+            for (j, &(jn, js)) in pairs.iter().enumerate() {
+                w[j] = self.grid.weight(jn);
+                north[j].copy_from_slice(&values[jn * np..(jn + 1) * np]);
+                self.forward.process(&mut north[j]);
+                if js != jn {
+                    south[j].copy_from_slice(&values[js * np..(js + 1) * np]);
+                    self.forward.process(&mut south[j]);
+                } else {
+                    south[j].fill(Complex64::default());
+                }
             }
-            self.legendre
-                .for_each_column(Polar::from_theta(r.theta[jn]), |m, col| {
-                    let sign = if m % 2 == 0 { 1.0 } else { -1.0 };
-                    let orders: &[(i64, f64)] = if m == 0 {
-                        &[(0, 1.0)]
-                    } else {
-                        &[(m as i64, 1.0), (-(m as i64), sign)]
-                    };
-                    for &(mm, s) in orders {
-                        let (gn, gs) = (north[self.bin(mm)], south[self.bin(mm)]);
-                        let (even, odd) = ((gn + gs) * (w * s), (gn - gs) * (w * s));
-                        for (k, &p) in col.iter().enumerate() {
-                            let g = if k % 2 == 0 { even } else { odd };
-                            out[lm_index(m + k, mm)] += g * p;
-                        }
+            self.legendre.for_each_column_lanes(&polars, |m, col| {
+                let sign = if m % 2 == 0 { 1.0 } else { -1.0 };
+                let orders: &[(i64, f64)] = if m == 0 {
+                    &[(0, 1.0)]
+                } else {
+                    &[(m as i64, 1.0), (-(m as i64), sign)]
+                };
+                for &(mm, s) in orders {
+                    let b = self.bin(mm);
+                    let mut even = [Complex64::default(); RINGS];
+                    let mut odd = [Complex64::default(); RINGS];
+                    for j in 0..pairs.len() {
+                        let (gn, gs) = (north[j][b], south[j][b]);
+                        even[j] = (gn + gs) * (w[j] * s);
+                        odd[j] = (gn - gs) * (w[j] * s);
                     }
-                });
+                    accumulate_lanes(col, &even, &odd, acc.column_mut(mm));
+                }
+            });
+        }
+        for l in 0..=self.lmax {
+            for m in -(l as i64)..=l as i64 {
+                out[lm_index(l, m)] = acc.column(m)[l - m.unsigned_abs() as usize];
+            }
         }
         Ok(())
     }
@@ -171,29 +200,32 @@ impl ShTransform {
             let scale = if m == 0 { 1.0 } else { FRAC_1_SQRT_2 };
             Complex64::new(scale * fm, -scale * fs)
         });
-        let mut z = vec![Complex64::default(); np];
-        let r = &self.grid.rings;
-        for (jn, js) in ring_pairs(r.len()) {
-            z.fill(Complex64::default());
-            self.legendre
-                .for_each_column(Polar::from_theta(r.theta[jn]), |m, col| {
-                    let (e, o) = parity_dot(col, packed.column(m as i64));
-                    // Pack: z = f_north + i f_south, spectrum Z_m = N_m + i S_m at m and
-                    // conj(N_m) + i conj(S_m) at -m.
-                    let (cn, cs) = (e + o, e - o);
+        let mut z = vec![vec![Complex64::default(); np]; RINGS];
+        let i = Complex64::i();
+        for (polars, pairs) in self.ring_blocks() {
+            z.iter_mut().for_each(|v| v.fill(Complex64::default()));
+            self.legendre.for_each_column_lanes(&polars, |m, col| {
+                let (e, o) = parity_dot_lanes(col, packed.column(m as i64));
+                // Pack: z = f_north + i f_south, spectrum Z_m = N_m + i S_m at m and
+                // conj(N_m) + i conj(S_m) at -m.
+                let (bp, bm) = (self.bin(m as i64), self.bin(-(m as i64)));
+                for j in 0..pairs.len() {
+                    let (cn, cs) = (e[j] + o[j], e[j] - o[j]);
                     if m == 0 {
-                        z[0] = Complex64::new(cn.re, cs.re);
+                        z[j][0] = Complex64::new(cn.re, cs.re);
                     } else {
-                        let i = Complex64::i();
-                        z[self.bin(m as i64)] += cn + i * cs;
-                        z[self.bin(-(m as i64))] += cn.conj() + i * cs.conj();
+                        z[j][bp] = cn + i * cs;
+                        z[j][bm] = cn.conj() + i * cs.conj();
                     }
-                });
-            self.inverse.process(&mut z);
-            for (k, v) in z.iter().enumerate() {
-                out[jn * np + k] = v.re;
-                if js != jn {
-                    out[js * np + k] = v.im;
+                }
+            });
+            for (j, &(jn, js)) in pairs.iter().enumerate() {
+                self.inverse.process(&mut z[j]);
+                for (k, v) in z[j].iter().enumerate() {
+                    out[jn * np + k] = v.re;
+                    if js != jn {
+                        out[js * np + k] = v.im;
+                    }
                 }
             }
         }
@@ -205,37 +237,120 @@ impl ShTransform {
         check_len("grid values", self.grid.len(), values.len())?;
         check_len("coefficients", num_coeffs(self.lmax), out.len())?;
         let np = self.grid.n_phi;
-        out.fill(0.0);
-        let mut z = vec![Complex64::default(); np];
-        let r = &self.grid.rings;
-        for (jn, js) in ring_pairs(r.len()) {
-            let w = self.grid.weight(jn);
-            for k in 0..np {
-                let s = if js != jn { values[js * np + k] } else { 0.0 };
-                z[k] = Complex64::new(values[jn * np + k], s);
+        // acc(m >= 0)[l - m] = sum over rings of weight Pbar_lm G_m: real part gives the
+        // cosine coefficient, minus the imaginary part the sine one (int f sin(m phi)).
+        let mut acc = pack_m_major(self.lmax, |_, _| Complex64::default());
+        let mut z = vec![vec![Complex64::default(); np]; RINGS];
+        for (polars, pairs) in self.ring_blocks() {
+            let mut w = [0.0; RINGS];
+            for (j, &(jn, js)) in pairs.iter().enumerate() {
+                w[j] = self.grid.weight(jn);
+                for k in 0..np {
+                    let s = if js != jn { values[js * np + k] } else { 0.0 };
+                    z[j][k] = Complex64::new(values[jn * np + k], s);
+                }
+                self.forward.process(&mut z[j]);
             }
-            self.forward.process(&mut z);
-            self.legendre
-                .for_each_column(Polar::from_theta(r.theta[jn]), |m, col| {
+            self.legendre.for_each_column_lanes(&polars, |m, col| {
+                let (bp, bm) = (self.bin(m as i64), self.bin(-(m as i64)));
+                let scale = if m == 0 { 1.0 } else { SQRT_2 };
+                let mut even = [Complex64::default(); RINGS];
+                let mut odd = [Complex64::default(); RINGS];
+                for j in 0..pairs.len() {
                     // Unpack G_north(m), G_south(m) from Z_m and conj(Z_{-m}).
-                    let zp = z[self.bin(m as i64)];
-                    let zm = z[self.bin(-(m as i64))].conj();
+                    let (zp, zm) = (z[j][bp], z[j][bm].conj());
                     let gn = 0.5 * (zp + zm);
                     let gs = Complex64::new(0.0, -0.5) * (zp - zm);
-                    let scale = if m == 0 { w } else { w * SQRT_2 };
-                    let (even, odd) = ((gn + gs) * scale, (gn - gs) * scale);
-                    for (k, &p) in col.iter().enumerate() {
-                        let l = m + k;
-                        let g = if k % 2 == 0 { even } else { odd };
-                        // cos part: Re G; sin part: -Im G (integral of f sin(m phi)).
-                        out[lm_index(l, m as i64)] += p * g.re;
-                        if m > 0 {
-                            out[lm_index(l, -(m as i64))] -= p * g.im;
-                        }
-                    }
-                });
+                    even[j] = (gn + gs) * (w[j] * scale);
+                    odd[j] = (gn - gs) * (w[j] * scale);
+                }
+                accumulate_lanes(col, &even, &odd, acc.column_mut(m as i64));
+            });
+        }
+        for l in 0..=self.lmax {
+            for m in 0..=l {
+                let a = acc.column(m as i64)[l - m];
+                out[lm_index(l, m as i64)] = a.re;
+                if m > 0 {
+                    out[lm_index(l, -(m as i64))] = -a.im;
+                }
+            }
         }
         Ok(())
+    }
+}
+
+/// Ring pairs per lane block of the Legendre recursion.
+const RINGS: usize = 16;
+
+/// A block of ring pairs: their (northern) polar angles, padded to `RINGS` lanes, and the
+/// `(north, south)` ring indices of the lanes in use.
+type RingBlock = ([Polar; RINGS], Vec<(usize, usize)>);
+
+/// Per lane, `(sum over even k, sum over odd k)` of `col[k][lane] * c[k]`.
+#[inline]
+fn parity_dot_lanes(
+    col: &[[f64; RINGS]],
+    c: &[Complex64],
+) -> ([Complex64; RINGS], [Complex64; RINGS]) {
+    let (mut er, mut ei, mut or, mut oi) = ([0.0; RINGS], [0.0; RINGS], [0.0; RINGS], [0.0; RINGS]);
+    let mut pairs = col.chunks_exact(2).zip(c.chunks_exact(2));
+    for (p, v) in &mut pairs {
+        for j in 0..RINGS {
+            er[j] += p[0][j] * v[0].re;
+            ei[j] += p[0][j] * v[0].im;
+            or[j] += p[1][j] * v[1].re;
+            oi[j] += p[1][j] * v[1].im;
+        }
+    }
+    if col.len() % 2 == 1 {
+        let (p, v) = (col[col.len() - 1], c[col.len() - 1]);
+        for j in 0..RINGS {
+            er[j] += p[j] * v.re;
+            ei[j] += p[j] * v.im;
+        }
+    }
+    (
+        std::array::from_fn(|j| Complex64::new(er[j], ei[j])),
+        std::array::from_fn(|j| Complex64::new(or[j], oi[j])),
+    )
+}
+
+/// `acc[k] += sum over lanes of col[k][lane] * g[lane]`, `g = even` or `odd` by the
+/// parity of `k`.
+#[inline]
+fn accumulate_lanes(
+    col: &[[f64; RINGS]],
+    even: &[Complex64; RINGS],
+    odd: &[Complex64; RINGS],
+    acc: &mut [Complex64],
+) {
+    let split = |g: &[Complex64; RINGS]| -> ([f64; RINGS], [f64; RINGS]) {
+        (
+            std::array::from_fn(|j| g[j].re),
+            std::array::from_fn(|j| g[j].im),
+        )
+    };
+    let (er, ei) = split(even);
+    let (or, oi) = split(odd);
+    let dot = |p: &[f64; RINGS], g: &[f64; RINGS]| -> f64 {
+        // Four partial sums, so that the reduction vectorizes.
+        let mut s = [0.0; 4];
+        for c in 0..RINGS / 4 {
+            for q in 0..4 {
+                s[q] += p[4 * c + q] * g[4 * c + q];
+            }
+        }
+        (s[0] + s[1]) + (s[2] + s[3])
+    };
+    let mut pairs = col.chunks_exact(2).zip(acc.chunks_exact_mut(2));
+    for (p, a) in &mut pairs {
+        a[0] += Complex64::new(dot(&p[0], &er), dot(&p[0], &ei));
+        a[1] += Complex64::new(dot(&p[1], &or), dot(&p[1], &oi));
+    }
+    if col.len() % 2 == 1 {
+        let k = col.len() - 1;
+        acc[k] += Complex64::new(dot(&col[k], &er), dot(&col[k], &ei));
     }
 }
 
@@ -251,6 +366,11 @@ impl MMajor {
     fn column(&self, m: i64) -> &[Complex64] {
         let i = (m + self.lmax as i64) as usize;
         &self.data[self.offsets[i]..self.offsets[i + 1]]
+    }
+
+    fn column_mut(&mut self, m: i64) -> &mut [Complex64] {
+        let i = (m + self.lmax as i64) as usize;
+        &mut self.data[self.offsets[i]..self.offsets[i + 1]]
     }
 }
 
@@ -268,22 +388,6 @@ fn pack_m_major(lmax: usize, f: impl Fn(usize, i64) -> Complex64) -> MMajor {
         data,
         offsets,
     }
-}
-
-/// `(sum over even k, sum over odd k)` of `col[k] * c[k]`.
-#[inline]
-fn parity_dot(col: &[f64], c: &[Complex64]) -> (Complex64, Complex64) {
-    let mut e = Complex64::default();
-    let mut o = Complex64::default();
-    let mut pairs = col.chunks_exact(2).zip(c.chunks_exact(2));
-    for (p, v) in &mut pairs {
-        e += v[0] * p[0];
-        o += v[1] * p[1];
-    }
-    if col.len() % 2 == 1 {
-        e += c[col.len() - 1] * col[col.len() - 1];
-    }
-    (e, o)
 }
 
 #[cfg(test)]

@@ -103,10 +103,9 @@ impl SmallDRecursion {
         })
     }
 
-    /// Advances to the next integer degree and writes `d^l` into `out`
-    /// (row-major `(2l+1)^2`, rows `m = -l..=l`, columns `m' = -l..=l`); returns `l`,
-    /// or `None` past `lmax`. The first call gives `l = 0`.
-    pub fn next_block(&mut self, out: &mut Vec<f64>) -> Option<usize> {
+    /// Advances to the next integer degree `l` (the first call gives `l = 0`), or `None`
+    /// past `lmax`.
+    pub fn advance(&mut self) -> Option<usize> {
         if self.started {
             if self.level + 2 > 2 * self.lmax {
                 return None;
@@ -115,29 +114,85 @@ impl SmallDRecursion {
             self.half_step();
         }
         self.started = true;
-        let big_j = self.level;
-        let n = big_j + 1;
+        Some(self.level / 2)
+    }
+
+    /// Row `i` (`m = i - l`) of the current block, as a slice of the stored half and
+    /// whether it is read reversed with the sign `(-1)^{i+k}` applied (the lower rows,
+    /// by `d[a][b] = (-1)^{a+b} d[J-a][J-b]`). Element `k` (`m' = k - l`) is
+    /// `row[n - 1 - k]` in the first case and `(-1)^{i+k} row[k]` in the second.
+    fn row(&self, i: usize) -> (&[f64], bool) {
+        let (big_j, s) = (self.level, self.stride);
+        let a = big_j - i;
+        if a <= big_j / 2 + 1 {
+            (&self.cur[(a + 1) * s + 1..(a + 1) * s + big_j + 2], false)
+        } else {
+            (&self.cur[(i + 1) * s + 1..(i + 1) * s + big_j + 2], true)
+        }
+    }
+
+    /// Writes the current block `d^l` into `out` (row-major `(2l+1)^2`, rows `m`,
+    /// columns `m'`, both from `-l`).
+    pub fn block(&self, out: &mut Vec<f64>) {
+        let n = self.level + 1;
         out.clear();
         out.resize(n * n, 0.0);
-        let h = big_j / 2 + 1;
-        let s = self.stride;
-        for i in 0..n {
-            let a = big_j - i;
-            for k in 0..n {
-                let b = big_j - k;
-                out[i * n + k] = if a <= h {
-                    self.cur[(a + 1) * s + b + 1]
-                } else {
-                    let v = self.cur[(big_j - a + 1) * s + (big_j - b) + 1];
-                    if (a + b) % 2 == 0 {
-                        v
-                    } else {
-                        -v
+        for (i, o) in out.chunks_exact_mut(n).enumerate() {
+            match self.row(i) {
+                (row, false) => o
+                    .iter_mut()
+                    .zip(row.iter().rev())
+                    .for_each(|(o, &r)| *o = r),
+                (row, true) => {
+                    for (k, (o, &r)) in o.iter_mut().zip(row).enumerate() {
+                        *o = if (i + k) % 2 == 0 { r } else { -r };
                     }
-                };
+                }
             }
         }
-        Some(big_j / 2)
+    }
+
+    /// Advances to the next integer degree and writes `d^l` into `out` (see [`Self::block`]);
+    /// returns `l`, or `None` past `lmax`.
+    pub fn next_block(&mut self, out: &mut Vec<f64>) -> Option<usize> {
+        let l = self.advance()?;
+        self.block(out);
+        Some(l)
+    }
+
+    /// Writes the complex block `D^l_mm' = e^{-i m alpha} d^l_mm' e^{-i m' gamma}` of the
+    /// current degree, given `ea[i] = e^{-i m alpha}` and `eg[k] = e^{-i m' gamma}`. The
+    /// rows `m > 0` follow from `D_{-m,-m'} = (-1)^{m-m'} conj(D_mm')`.
+    fn complex_block(&self, ea: &[Complex64], eg: &[Complex64], out: &mut Vec<Complex64>) {
+        let n = self.level + 1;
+        let l = self.level / 2;
+        // Every element is written below: no need to clear.
+        out.resize(n * n, Complex64::default());
+        for i in 0..=l {
+            let c = ea[i];
+            // Row i and, below the middle row, its mirror n - 1 - i.
+            let (head, tail) = out.split_at_mut((n - 1 - i).max(i + 1) * n);
+            let o = &mut head[i * n..(i + 1) * n];
+            match self.row(i) {
+                (row, false) => {
+                    for ((o, &r), &g) in o.iter_mut().zip(row.iter().rev()).zip(eg) {
+                        *o = c * g * r;
+                    }
+                }
+                (row, true) => {
+                    for (k, ((o, &r), &g)) in o.iter_mut().zip(row).zip(eg).enumerate() {
+                        *o = c * g * if (i + k) % 2 == 0 { r } else { -r };
+                    }
+                }
+            }
+            if i < l {
+                let mirror = &mut tail[..n];
+                for (k, v) in o.iter().enumerate() {
+                    let w = v.conj();
+                    mirror[n - 1 - k] = if (i + k) % 2 == 0 { w } else { -w };
+                }
+            }
+        }
     }
 
     /// One half-integer step: level `J - 1` in `cur` to level `J` (rows `a <= J/2 + 1`,
@@ -195,16 +250,13 @@ pub fn for_each_block(
 ) -> Result<()> {
     let (alpha, beta, gamma) = euler_zyz(r);
     let mut rec = SmallDRecursion::new(beta, lmax)?;
-    let mut d = Vec::new();
     let mut block = Vec::new();
     let mut ea = Vec::new();
     let mut eg = Vec::new();
-    while let Some(l) = rec.next_block(&mut d) {
-        let n = 2 * l + 1;
+    while let Some(l) = rec.advance() {
         phases(l, alpha, &mut ea);
         phases(l, gamma, &mut eg);
-        block.clear();
-        block.extend((0..n * n).map(|ik| ea[ik / n] * d[ik] * eg[ik % n]));
+        rec.complex_block(&ea, &eg, &mut block);
         f(l, &block);
     }
     Ok(())

@@ -4,12 +4,14 @@
 //! The fixtures are compiled into the library so that `psh verify` runs anywhere.
 
 use crate::error::{Error, Result};
+use crate::sh::gaunt::{gaunt, gaunt_product, real_gaunt, wigner_3j};
 use crate::sh::legendre::{legendre_all, tri_index};
 use crate::sh::wigner::small_d_block;
 use serde_json::Value;
 
 const LEGENDRE: &str = include_str!("../../tests/fixtures/legendre.json");
 const WIGNER_D: &str = include_str!("../../tests/fixtures/wigner_d.json");
+const GAUNT: &str = include_str!("../../tests/fixtures/gaunt.json");
 
 fn malformed(name: &str, reason: impl Into<String>) -> Error {
     Error::MalformedFile {
@@ -137,6 +139,45 @@ pub fn wigner_d(range: std::ops::RangeInclusive<usize>) -> Result<f64> {
             let exact = value(name, &e[2])?;
             let got = block[(m + l as i64) as usize * n + (mp + l as i64) as usize];
             let err = (got - exact).abs();
+            worst = worst.max(if err.is_nan() { f64::INFINITY } else { err });
+        }
+    }
+    Ok(worst)
+}
+
+/// Max relative error of the f64 3j symbols and complex, product-form and real Gaunt
+/// coefficients over the fixture (l1, l2 <= 50); at exact zeros, the absolute error.
+pub fn gaunt_coefficients() -> Result<f64> {
+    let name = "gaunt.json";
+    let fx = parse(name, GAUNT)?;
+    type F = fn(usize, i64, usize, i64, usize, i64) -> Result<f64>;
+    let lists: [(&str, F); 4] = [
+        ("wigner3j", |l1, m1, l2, m2, l3, m3| {
+            wigner_3j(l1, l2, l3, m1, m2, m3)
+        }),
+        ("gaunt", gaunt),
+        ("gaunt_product", gaunt_product),
+        ("real_gaunt", real_gaunt),
+    ];
+    let mut worst = 0.0f64;
+    for (key, f) in lists {
+        let entries = fx[key]
+            .as_array()
+            .ok_or_else(|| malformed(name, format!("no {key}")))?;
+        for e in entries {
+            let l: Vec<usize> = (0..3)
+                .map(|i| uint(name, &e["l"][i], "l"))
+                .collect::<Result<_>>()?;
+            let m: Vec<i64> = (0..3)
+                .map(|i| {
+                    e["m"][i]
+                        .as_i64()
+                        .ok_or_else(|| malformed(name, "m is not an integer"))
+                })
+                .collect::<Result<_>>()?;
+            let exact = value(name, &e["value"])?;
+            let got = f(l[0], m[0], l[1], m[1], l[2], m[2])?;
+            let err = (got - exact).abs() / if exact == 0.0 { 1.0 } else { exact.abs() };
             worst = worst.max(if err.is_nan() { f64::INFINITY } else { err });
         }
     }

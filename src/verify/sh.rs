@@ -156,6 +156,14 @@ pub fn checks() -> Vec<Check> {
             run: || Ok(gaunt_by_quadrature()?.0),
         },
         Check {
+            id: "gaunt.oracle",
+            source: "DLMF 34.3.22",
+            description: "3j symbols and complex, product-form and real Gaunt coefficients vs 40-digit exact values (Racah), l1, l2 <= 50 (relative)",
+            tolerance: 1e-14,
+            proof: Some("proofs/wigner3j-recursion.md"),
+            run: super::oracle::gaunt_coefficients,
+        },
+        Check {
             id: "gaunt.selection_rules",
             source: "DLMF 34.3.22",
             description: "largest integral of three real SH whose Gaunt coefficient the selection rules set to 0, l <= 6",
