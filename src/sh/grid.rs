@@ -164,20 +164,36 @@ impl SphereGrid {
         2.0 * PI * k as f64 / self.n_phi as f64
     }
 
-    /// Quadrature weight of a point of ring `j`: `w_j 2 pi / n_phi`.
+    /// Quadrature weight `w_j 2 pi / n_phi` of the points of ring `j` (0 past the last ring).
     pub fn weight(&self, j: usize) -> f64 {
-        self.rings.weights[j] * 2.0 * PI / self.n_phi as f64
+        self.rings
+            .weights
+            .get(j)
+            .map_or(0.0, |w| w * 2.0 * PI / self.n_phi as f64)
     }
 
-    /// `(theta, phi)` of point `i` (ring-major).
-    pub fn angles(&self, i: usize) -> (f64, f64) {
-        (self.rings.theta[i / self.n_phi], self.phi(i % self.n_phi))
+    /// Quadrature weight of point `i` (ring-major; 0 past the last point).
+    pub fn point_weight(&self, i: usize) -> f64 {
+        self.weight(i / self.n_phi.max(1))
     }
 
-    /// Unit direction of point `i`.
-    pub fn direction(&self, i: usize) -> [f64; 3] {
-        let (t, p) = self.angles(i);
-        super::harmonics::direction(t, p)
+    /// `(theta, phi)` of point `i` (ring-major), or an error past the last point.
+    pub fn angles(&self, i: usize) -> Result<(f64, f64)> {
+        let j = i / self.n_phi.max(1);
+        match self.rings.theta.get(j) {
+            Some(&t) => Ok((t, self.phi(i % self.n_phi.max(1)))),
+            None => Err(Error::InvalidArgument {
+                name: "grid point",
+                value: i.to_string(),
+                reason: format!("the grid has {} points", self.len()),
+            }),
+        }
+    }
+
+    /// Unit direction of point `i`, or an error past the last point.
+    pub fn direction(&self, i: usize) -> Result<[f64; 3]> {
+        let (t, p) = self.angles(i)?;
+        Ok(super::harmonics::direction(t, p))
     }
 
     /// Integral of sampled values (ring-major) by the rule.

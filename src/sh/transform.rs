@@ -417,7 +417,7 @@ mod tests {
         let ev = ShEvaluator::new(lmax).unwrap();
         let mut y = vec![0.0; ev.len()];
         for i in 0..t.grid().len() {
-            let (th, ph) = t.grid().angles(i);
+            let (th, ph) = t.grid().angles(i).unwrap();
             ev.real(th, ph, &mut y).unwrap();
             let v: f64 = y.iter().zip(&c).map(|(a, b)| a * b).sum();
             assert!((v - f[i]).abs() < 1e-13, "point {i}: {v} vs {}", f[i]);
@@ -440,7 +440,7 @@ mod tests {
         let ev = ShEvaluator::new(lmax).unwrap();
         let mut y = vec![Complex64::default(); ev.len()];
         for i in 0..t.grid().len() {
-            let (th, ph) = t.grid().angles(i);
+            let (th, ph) = t.grid().angles(i).unwrap();
             ev.complex(th, ph, &mut y).unwrap();
             let v: Complex64 = y.iter().zip(&c).map(|(a, b)| a * b).sum();
             assert!((v - f[i]).norm() < 1e-13, "point {i}");

@@ -40,7 +40,14 @@ pub fn rotation_from_rotvec(v: [f64; 3]) -> Result<Rotation3<f64>> {
             reason: "a zero rotation vector has no axis (pass the identity explicitly)".into(),
         });
     }
-    Ok(Rotation3::new(Vector3::from(v)))
+    let r = Rotation3::new(Vector3::from(v));
+    if !r.matrix().iter().all(|x| x.is_finite()) {
+        return Err(Error::InvalidRotation {
+            value: format!("{v:?}"),
+            reason: "the rotation angle (the vector's norm) is too large to represent".into(),
+        });
+    }
+    Ok(r)
 }
 
 /// ZYZ Euler angles `(alpha, beta, gamma)` with `R = Rz(alpha) Ry(beta) Rz(gamma)`,
@@ -329,8 +336,8 @@ impl WignerD {
     }
 
     /// Block `l`, row-major, rows `m`, columns `m'` from `-l`.
-    pub fn block(&self, l: usize) -> &[Complex64] {
-        &self.blocks[l]
+    pub fn block(&self, l: usize) -> Result<&[Complex64]> {
+        block_of(&self.blocks, l)
     }
 
     /// Rotates a complex coefficient vector: `f'_lm = sum_m' D^l_mm' f_lm'` (PSH (9)),
@@ -365,8 +372,8 @@ impl RealWignerD {
     }
 
     /// Block `l`, row-major, rows `m`, columns `m'` from `-l`.
-    pub fn block(&self, l: usize) -> &[f64] {
-        &self.blocks[l]
+    pub fn block(&self, l: usize) -> Result<&[f64]> {
+        block_of(&self.blocks, l)
     }
 
     /// Rotates a real coefficient vector (PSH (13)); `O(lmax^3)`.
@@ -374,6 +381,18 @@ impl RealWignerD {
         check_len("coefficients", num_coeffs(self.lmax()), coeffs.len())?;
         Ok(apply_blocks(&self.blocks, coeffs))
     }
+}
+
+/// Block `l` of a stored set, or an error naming `l`.
+fn block_of<T>(blocks: &[Vec<T>], l: usize) -> Result<&[T]> {
+    blocks
+        .get(l)
+        .map(Vec::as_slice)
+        .ok_or(Error::DegreeOutOfRange {
+            name: "l",
+            value: l as i64,
+            reason: format!("the blocks stop at l = {}", blocks.len().saturating_sub(1)),
+        })
 }
 
 /// Block-diagonal matrix-vector product over the bands.
@@ -453,7 +472,7 @@ mod tests {
         let mut values = vec![Complex64::default(); t.grid().len() * n];
         let mut y = vec![Complex64::default(); n];
         for i in 0..t.grid().len() {
-            let w = Vector3::from(t.grid().direction(i));
+            let w = Vector3::from(t.grid().direction(i).unwrap());
             let v = r.inverse() * w;
             let (th, ph) = direction_angles([v.x, v.y, v.z]).unwrap();
             ev.complex(th, ph, &mut y).unwrap();
@@ -472,7 +491,8 @@ mod tests {
                     for m in -(l as i64)..=l as i64 {
                         let expect = if l == lp {
                             let nb = 2 * l + 1;
-                            d.block(l)[(m + l as i64) as usize * nb + (mp + lp as i64) as usize]
+                            d.block(l).unwrap()
+                                [(m + l as i64) as usize * nb + (mp + lp as i64) as usize]
                         } else {
                             Complex64::default()
                         };
@@ -522,7 +542,7 @@ mod tests {
             for mp in 0..n {
                 let mut s = 0.0;
                 for m in 0..n {
-                    s += y0[l * l + m] * dr.block(l)[m * n + mp];
+                    s += y0[l * l + m] * dr.block(l).unwrap()[m * n + mp];
                 }
                 assert!((s - y1[l * l + mp]).abs() < 1e-14, "l {l} m' {mp}");
             }

@@ -29,7 +29,7 @@ pub struct ZonalCoefficients {
 impl ZonalCoefficients {
     /// The band limit.
     pub fn lmax(&self) -> usize {
-        self.coeffs.len() - 1
+        self.coeffs.len().saturating_sub(1)
     }
 
     /// The Funk-Hecke factors `sqrt(4 pi / (2l+1)) k_l` of PSH (11).

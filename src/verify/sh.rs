@@ -178,7 +178,9 @@ pub fn checks() -> Vec<Check> {
 fn real_sh_on_grid(lmax: usize, grid_lmax: usize) -> Result<(SphereGrid, Vec<f64>)> {
     let g = SphereGrid::for_band_limit(grid_lmax)?;
     let ev = ShEvaluator::new(lmax)?;
-    let dirs: Vec<[f64; 3]> = (0..g.len()).map(|i| g.direction(i)).collect();
+    let dirs = (0..g.len())
+        .map(|i| g.direction(i))
+        .collect::<Result<Vec<_>>>()?;
     let mut y = vec![0.0; dirs.len() * ev.len()];
     ev.real_batch(&dirs, &mut y)?;
     Ok((g, y))
@@ -190,7 +192,7 @@ fn orthonormality() -> Result<f64> {
     let (g, y) = real_sh_on_grid(lmax, lmax)?;
     let mut gram = vec![0.0; n * n];
     for p in 0..g.len() {
-        let w = g.weight(p / g.n_phi);
+        let w = g.point_weight(p);
         let row = &y[p * n..(p + 1) * n];
         for i in 0..n {
             let wi = w * row[i];
@@ -324,7 +326,7 @@ fn wigner_projection() -> Result<(f64, f64)> {
     let mut values = vec![Complex64::default(); npts * n];
     let mut y = vec![Complex64::default(); n];
     for i in 0..npts {
-        let v = r.inverse() * Vector3::from(t.grid().direction(i));
+        let v = r.inverse() * Vector3::from(t.grid().direction(i)?);
         let (th, ph) = direction_angles([v.x, v.y, v.z])?;
         ev.complex(th, ph, &mut y)?;
         values[i * n..(i + 1) * n].copy_from_slice(&y);
@@ -344,7 +346,8 @@ fn wigner_projection() -> Result<(f64, f64)> {
                     let got = coeffs[lm_index(l, m)];
                     if l == lp {
                         let nb = 2 * l + 1;
-                        let e = d.block(l)[(m + l as i64) as usize * nb + (mp + l as i64) as usize];
+                        let e =
+                            d.block(l)?[(m + l as i64) as usize * nb + (mp + l as i64) as usize];
                         in_block = in_block.max((got - e).norm());
                     } else {
                         off_block = off_block.max(got.norm());
@@ -389,7 +392,7 @@ fn composition() -> Result<f64> {
     let mut worst = 0.0f64;
     for l in 0..=lmax {
         let n = 2 * l + 1;
-        let (a, b, c) = (d1.block(l), d2.block(l), d12.block(l));
+        let (a, b, c) = (d1.block(l)?, d2.block(l)?, d12.block(l)?);
         for i in 0..n {
             for k in 0..n {
                 let s: Complex64 = (0..n).map(|j| a[i * n + j] * b[j * n + k]).sum();
@@ -421,9 +424,8 @@ fn real_wigner() -> Result<f64> {
         for l in 0..=lmax {
             let n = 2 * l + 1;
             for mp in 0..n {
-                let s: f64 = (0..n)
-                    .map(|m| y0[l * l + m] * dr.block(l)[m * n + mp])
-                    .sum();
+                let b = dr.block(l)?;
+                let s: f64 = (0..n).map(|m| y0[l * l + m] * b[m * n + mp]).sum();
                 worst = worst.max((s - y1[l * l + mp]).abs());
             }
         }
@@ -468,9 +470,9 @@ fn funk_hecke() -> Result<f64> {
         let w = direction(t0, p0);
         let mut direct = 0.0;
         for i in 0..fine.grid().len() {
-            let v = fine.grid().direction(i);
+            let v = fine.grid().direction(i)?;
             let c = (w[0] * v[0] + w[1] * v[1] + w[2] * v[2]).clamp(-1.0, 1.0);
-            direct += fine.grid().weight(i / fine.grid().n_phi) * kernel(c.acos()) * f_fine[i];
+            direct += fine.grid().point_weight(i) * kernel(c.acos()) * f_fine[i];
         }
         ev.real(t0, p0, &mut y)?;
         let freq: f64 = y.iter().zip(&conv).map(|(a, b)| a * b).sum();
@@ -489,10 +491,10 @@ fn rotated_zonal() -> Result<f64> {
     let t = ShTransform::new(lmax)?;
     let vals: Vec<f64> = (0..t.grid().len())
         .map(|i| {
-            let v = t.grid().direction(i);
-            poly(n[0] * v[0] + n[1] * v[1] + n[2] * v[2])
+            let v = t.grid().direction(i)?;
+            Ok(poly(n[0] * v[0] + n[1] * v[1] + n[2] * v[2]))
         })
-        .collect();
+        .collect::<Result<_>>()?;
     let mut proj = vec![0.0; num_coeffs(lmax)];
     t.analysis_real(&vals, &mut proj)?;
     Ok(coeffs
@@ -512,7 +514,7 @@ fn gaunt_by_quadrature() -> Result<(f64, f64)> {
     let ev = ShEvaluator::new(lmax)?;
     let mut yc = vec![Complex64::default(); g.len() * n];
     for p in 0..g.len() {
-        let (t, ph) = g.angles(p);
+        let (t, ph) = g.angles(p)?;
         ev.complex(t, ph, &mut yc[p * n..(p + 1) * n])?;
     }
     let (mut value_err, mut rule_err) = (0.0f64, 0.0f64);
@@ -522,7 +524,7 @@ fn gaunt_by_quadrature() -> Result<(f64, f64)> {
             for k in j..n {
                 let (mut qr, mut qc) = (0.0, Complex64::default());
                 for p in 0..g.len() {
-                    let w = g.weight(p / g.n_phi);
+                    let w = g.point_weight(p);
                     qr += w * y[p * n + i] * y[p * n + j] * y[p * n + k];
                     qc += w * yc[p * n + i] * yc[p * n + j] * yc[p * n + k];
                 }
