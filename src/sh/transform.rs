@@ -106,13 +106,7 @@ impl ShTransform {
                 .chain(south.iter_mut())
                 .for_each(|v| v.fill(Complex64::default()));
             self.legendre.for_each_column_lanes(&polars, |m, col| {
-                let sign = if m % 2 == 0 { 1.0 } else { -1.0 };
-                let orders: &[(i64, f64)] = if m == 0 {
-                    &[(0, 1.0)]
-                } else {
-                    &[(m as i64, 1.0), (-(m as i64), sign)]
-                };
-                for &(mm, s) in orders {
+                for (mm, s) in signed_orders(m) {
                     let (e, o) = parity_dot_lanes(col, packed.column(mm));
                     let b = self.bin(mm);
                     for j in 0..pairs.len() {
@@ -155,13 +149,7 @@ impl ShTransform {
                 }
             }
             self.legendre.for_each_column_lanes(&polars, |m, col| {
-                let sign = if m % 2 == 0 { 1.0 } else { -1.0 };
-                let orders: &[(i64, f64)] = if m == 0 {
-                    &[(0, 1.0)]
-                } else {
-                    &[(m as i64, 1.0), (-(m as i64), sign)]
-                };
-                for &(mm, s) in orders {
+                for (mm, s) in signed_orders(m) {
                     let b = self.bin(mm);
                     let mut even = [Complex64::default(); RINGS];
                     let mut odd = [Complex64::default(); RINGS];
@@ -278,6 +266,15 @@ impl ShTransform {
         }
         Ok(())
     }
+}
+
+/// The orders `m` and `-m` served by Legendre column `m >= 0`, each with its factor
+/// (`Pbar_{l,-m} = (-1)^m Pbar_lm`); just `(0, 1)` for `m = 0`.
+fn signed_orders(m: usize) -> impl Iterator<Item = (i64, f64)> {
+    let sign = if m % 2 == 0 { 1.0 } else { -1.0 };
+    [(m as i64, 1.0), (-(m as i64), sign)]
+        .into_iter()
+        .take(if m == 0 { 1 } else { 2 })
 }
 
 /// Ring pairs per lane block of the Legendre recursion.

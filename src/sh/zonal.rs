@@ -89,36 +89,28 @@ pub fn zonal_coefficients(kernel: impl Fn(f64) -> f64, lmax: usize) -> Result<Zo
     })
 }
 
-/// Funk-Hecke convolution PSH (11) of real (or, with [`funk_hecke_complex`], complex)
-/// coefficients `f` of band limit `k.lmax()`.
-pub fn funk_hecke_real(k: &ZonalCoefficients, f: &[f64]) -> Result<Vec<f64>> {
+/// Funk-Hecke convolution PSH (11) of coefficients `f` (real or complex, flat order) of
+/// band limit `k.lmax()`: `f'_lm = sqrt(4 pi / (2l+1)) k_l f_lm`.
+pub fn funk_hecke<T>(k: &ZonalCoefficients, f: &[T]) -> Result<Vec<T>>
+where
+    T: Copy + std::ops::Mul<f64, Output = T>,
+{
     check_len("coefficients", num_coeffs(k.lmax()), f.len())?;
-    let g = k.funk_hecke_factors();
-    Ok(f.iter()
-        .enumerate()
-        .map(|(i, &x)| g[(i as f64).sqrt() as usize] * x)
-        .collect())
+    Ok(scale_bands(&k.funk_hecke_factors(), f.iter().copied()))
 }
 
-/// Funk-Hecke convolution PSH (11) of complex coefficients.
-pub fn funk_hecke_complex(k: &ZonalCoefficients, f: &[Complex64]) -> Result<Vec<Complex64>> {
-    check_len("coefficients", num_coeffs(k.lmax()), f.len())?;
-    let g = k.funk_hecke_factors();
-    Ok(f.iter()
-        .enumerate()
-        .map(|(i, &x)| g[(i as f64).sqrt() as usize] * x)
-        .collect())
+/// `g_l x_lm` over the flat order.
+fn scale_bands<T: std::ops::Mul<f64, Output = T>>(g: &[f64], x: impl Iterator<Item = T>) -> Vec<T> {
+    x.enumerate()
+        .map(|(i, v)| v * g[(i as f64).sqrt() as usize])
+        .collect()
 }
 
 /// Real coefficients of the kernel turned to the unit axis `n`: `sqrt(4 pi/(2l+1)) k_l Y^R_lm(n)`.
 pub fn rotated_zonal_real(k: &ZonalCoefficients, n: [f64; 3]) -> Result<Vec<f64>> {
     let (t, p) = direction_angles(check_direction(n)?)?;
     let y = sh_real(k.lmax(), t, p)?;
-    let g = k.funk_hecke_factors();
-    Ok(y.iter()
-        .enumerate()
-        .map(|(i, &v)| g[(i as f64).sqrt() as usize] * v)
-        .collect())
+    Ok(scale_bands(&k.funk_hecke_factors(), y.into_iter()))
 }
 
 /// Complex coefficients of the kernel turned to the unit axis `n`:
@@ -126,11 +118,10 @@ pub fn rotated_zonal_real(k: &ZonalCoefficients, n: [f64; 3]) -> Result<Vec<f64>
 pub fn rotated_zonal_complex(k: &ZonalCoefficients, n: [f64; 3]) -> Result<Vec<Complex64>> {
     let (t, p) = direction_angles(check_direction(n)?)?;
     let y = sh_complex(k.lmax(), t, p)?;
-    let g = k.funk_hecke_factors();
-    Ok(y.iter()
-        .enumerate()
-        .map(|(i, &v)| g[(i as f64).sqrt() as usize] * v.conj())
-        .collect())
+    Ok(scale_bands(
+        &k.funk_hecke_factors(),
+        y.into_iter().map(|v| v.conj()),
+    ))
 }
 
 #[cfg(test)]
