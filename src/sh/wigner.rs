@@ -82,7 +82,7 @@ pub struct SmallDRecursion {
     /// Level `J = 2j` held in `cur`.
     level: usize,
     started: bool,
-    e: [Vec<f64>; 4],
+    e: [Vec<f64>; 2],
 }
 
 impl SmallDRecursion {
@@ -209,23 +209,23 @@ impl SmallDRecursion {
         let s = self.stride;
         let sq = &self.sq;
         let inv = 1.0 / big_j as f64;
-        let [e1, e2, e3, e4] = &mut self.e;
+        // sq[J - b] and sq[b] as contiguous slices over b = 0..=J.
+        let [rev, fwd] = &mut self.e;
         for b in 0..=big_j {
-            e1[b] = sq[big_j - b] * self.p;
-            e2[b] = sq[b] * self.q;
-            e3[b] = sq[big_j - b] * self.q;
-            e4[b] = sq[b] * self.p;
+            rev[b] = sq[big_j - b];
+            fwd[b] = sq[b];
         }
         let h = (big_j / 2 + 1).min(big_j);
         for a in 0..=h {
-            let ca = sq[big_j - a] * inv;
-            let cb = sq[a] * inv;
+            // Row constants of the recursion: sqrt(J-a)/J {p, q}, sqrt(a)/J {q, p}.
+            let (ca, cb) = (sq[big_j - a] * inv, sq[a] * inv);
+            let (ap, aq, bq, bp) = (ca * self.p, ca * self.q, cb * self.q, cb * self.p);
             let x = &self.cur[(a + 1) * s..(a + 1) * s + big_j + 2];
             let y = &self.cur[a * s..a * s + big_j + 2];
             let row = &mut self.next[(a + 1) * s + 1..(a + 1) * s + big_j + 2];
             for b in 0..=big_j {
                 row[b] =
-                    ca * (e1[b] * x[b + 1] - e2[b] * x[b]) + cb * (e3[b] * y[b + 1] + e4[b] * y[b]);
+                    rev[b] * (ap * x[b + 1] + bq * y[b + 1]) + fwd[b] * (bp * y[b] - aq * x[b]);
             }
         }
         let a = h + 1;
@@ -257,25 +257,24 @@ pub fn for_each_block(
 ) -> Result<()> {
     let (alpha, beta, gamma) = euler_zyz(r);
     let mut rec = SmallDRecursion::new(beta, lmax)?;
-    let mut block = Vec::new();
-    let mut ea = Vec::new();
-    let mut eg = Vec::new();
+    let mut block = Vec::with_capacity((2 * lmax + 1) * (2 * lmax + 1));
+    let (ea, eg) = (phases(lmax, alpha), phases(lmax, gamma));
     while let Some(l) = rec.advance() {
-        phases(l, alpha, &mut ea);
-        phases(l, gamma, &mut eg);
-        rec.complex_block(&ea, &eg, &mut block);
+        let band = lmax - l..=lmax + l;
+        rec.complex_block(&ea[band.clone()], &eg[band], &mut block);
         f(l, &block);
     }
     Ok(())
 }
 
 /// `e^{-i m angle}` for `m = -l..=l`.
-fn phases(l: usize, angle: f64, out: &mut Vec<Complex64>) {
-    out.clear();
-    out.extend((-(l as i64)..=l as i64).map(|m| {
-        let (c, s) = super::harmonics::cis_m(m.unsigned_abs() as usize, angle);
-        Complex64::new(c, -(m.signum() as f64) * s)
-    }));
+fn phases(l: usize, angle: f64) -> Vec<Complex64> {
+    (-(l as i64)..=l as i64)
+        .map(|m| {
+            let (c, s) = super::harmonics::cis_m(m.unsigned_abs() as usize, angle);
+            Complex64::new(c, -(m.signum() as f64) * s)
+        })
+        .collect()
 }
 
 /// Real Wigner block PSH (13) from the complex one: `D^R = conj(U) D U^T`, where
