@@ -23,7 +23,9 @@
 //! Two precisions share that code: [`Legendre`] (tabulated `f64` coefficients, the fast
 //! path of transforms and batch evaluation) and [`for_each_column_accurate`]
 //! (double-double state and coefficients, for single directions at very high degree,
-//! where the `f64` recursion's rounding error, growing like `l eps`, would pass `1e-12`).
+//! where the `f64` recursion's rounding error would pass `1e-12`: near the poles `u` is
+//! of the order of the rounding of the other terms and its effect, amplified like `l^2`,
+//! is lost; measured in `psh verify` (`sh.fast_path_l2048`, `sh.band_norm_l2048`).
 
 use super::{check_lmax, check_theta};
 use crate::error::Result;
@@ -398,8 +400,8 @@ impl Legendre {
 /// Steps of the lane recursion between exponent checks.
 pub const LANE_BLOCK: usize = 16;
 
-/// Output factors `2^exp` (zero below `2^-1200`, where every value of the band is below
-/// the f64 range) for even and odd `l - m`, the odd ones with the mirror sign.
+/// Output factors `2^exp` (zero at `exp <= -1200`, where the true value is below
+/// `2^(605 - 1200)`, negligible against band maxima of order one) for even and odd `l - m`, the odd ones with the mirror sign.
 #[inline]
 fn lane_factors<const N: usize>(exp: &[i32; N], sign: &[f64; N]) -> ([f64; N], [f64; N]) {
     let fe: [f64; N] = std::array::from_fn(|j| match exp[j] {

@@ -5,7 +5,7 @@ use crate::error::Result;
 use crate::sh::gaunt::{gaunt, real_gaunt};
 use crate::sh::grid::SphereGrid;
 use crate::sh::harmonics::{direction, direction_angles, sh_complex, sh_real, ShEvaluator};
-use crate::sh::legendre::{legendre_all, tri_index, zonal_legendre};
+use crate::sh::legendre::{legendre_all, tri_index, zonal_legendre, Legendre, Polar};
 use crate::sh::transform::ShTransform;
 use crate::sh::wigner::{for_each_block, rotation_from_rotvec, RealWignerD, WignerD};
 use crate::sh::zonal::{funk_hecke, rotated_zonal_real, zonal_coefficients};
@@ -66,6 +66,14 @@ pub fn checks() -> Vec<Check> {
             tolerance: 1e-12,
             proof: Some("proofs/legendre-recursion.md"),
             run: fast_vs_accurate,
+        },
+        Check {
+            id: "sh.fast_path_l2048",
+            source: "PSH (1)",
+            description: "documented accuracy of the f64 table path (transforms, batch SH) vs the double-double path, every l <= 2048 at the stress angles (relative to band max)",
+            tolerance: 1e-10,
+            proof: Some("proofs/legendre-recursion.md"),
+            run: fast_path_l2048,
         },
         Check {
             id: "wigner.definition",
@@ -306,6 +314,28 @@ fn fast_vs_accurate() -> Result<f64> {
                 worst = worst.max((y[k * n + i] - exact[i]).abs() / band);
             }
         }
+    }
+    Ok(worst)
+}
+
+fn fast_path_l2048() -> Result<f64> {
+    let lmax = 2048;
+    let table = Legendre::new(lmax)?;
+    let mut worst = 0.0f64;
+    for theta in STRESS_THETAS {
+        let exact = legendre_all(lmax, theta)?;
+        let mut band_max = vec![0.0f64; lmax + 1];
+        for l in 0..=lmax {
+            for m in 0..=l {
+                band_max[l] = band_max[l].max(exact[tri_index(l, m)].abs());
+            }
+        }
+        table.for_each_column(Polar::from_theta(theta), |m, col| {
+            for (k, &v) in col.iter().enumerate() {
+                let l = m + k;
+                worst = worst.max((v - exact[tri_index(l, m)]).abs() / band_max[l]);
+            }
+        });
     }
     Ok(worst)
 }
