@@ -146,6 +146,7 @@ impl ShEvaluator {
             return Ok(());
         };
         let mut tile = vec![[0.0; LANES]; n];
+        let mut scratch = Vec::new();
         for (chunk, rows) in dirs.chunks(LANES).zip(out.chunks_mut(LANES * n)) {
             let mut polars = [Polar::from_z_rho(1.0, 0.0); LANES];
             let mut cis = [(1.0, 0.0); LANES];
@@ -163,7 +164,7 @@ impl ShEvaluator {
                     cis[j] = (w[0] * inv, w[1] * inv);
                 }
             }
-            real_lanes(table, &polars, &cis, &mut tile);
+            real_lanes(table, &polars, &cis, &mut scratch, &mut tile);
             for (j, row) in rows.chunks_exact_mut(n).enumerate() {
                 for (o, t) in row.iter_mut().zip(&tile) {
                     *o = t[j];
@@ -180,10 +181,11 @@ fn real_lanes(
     table: &Legendre,
     polars: &[Polar; LANES],
     cis: &[(f64, f64); LANES],
+    scratch: &mut Vec<[f64; LANES]>,
     tile: &mut [[f64; LANES]],
 ) {
     let (mut cm, mut sm) = ([1.0f64; LANES], [0.0f64; LANES]);
-    table.for_each_column_lanes(polars, |m, col| {
+    table.for_each_column_lanes(polars, scratch, |m, col| {
         if m > 0 {
             for j in 0..LANES {
                 let c = cm[j] * cis[j].0 - sm[j] * cis[j].1;
@@ -212,7 +214,7 @@ fn real_lanes(
 }
 
 /// Directions per lane group of the batch evaluation.
-const LANES: usize = 16;
+const LANES: usize = 8;
 
 /// Writes the real SH of column m (`Pbar_lm` for `l >= m`) given `cos(m phi), sin(m phi)`.
 #[inline]

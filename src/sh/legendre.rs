@@ -333,13 +333,16 @@ impl Legendre {
     /// full and vectorize). The exponent bookkeeping of the scaled recursion is done once
     /// per block of [`LANE_BLOCK`] steps instead of at every step: within a block a value
     /// grows by at most `a_lm^16 < 2^200`, far inside the `2^423` head room above `BIG`.
+    /// `scratch` holds the column (resized to `lmax + 1` rows; reuse it across calls).
     pub fn for_each_column_lanes<const N: usize>(
         &self,
         polars: &[Polar; N],
+        scratch: &mut Vec<[f64; N]>,
         mut f: impl FnMut(usize, &[[f64; N]]),
     ) {
         let lmax = self.lmax;
-        let mut buf = vec![[0.0f64; N]; lmax + 1];
+        scratch.resize(lmax + 1, [0.0; N]);
+        let buf = scratch;
         let sin: [f64; N] = std::array::from_fn(|j| polars[j].sin);
         let u: [f64; N] = std::array::from_fn(|j| polars[j].vers);
         let sign: [f64; N] = std::array::from_fn(|j| if polars[j].south { -1.0 } else { 1.0 });
@@ -361,7 +364,11 @@ impl Legendre {
             let (mut p1, mut p2) = (diag, [0.0f64; N]);
             let mut exp = diag_exp;
             let mut scaled = exp.iter().any(|&e| e < 0);
-            let (mut fe, mut fo) = lane_factors(&exp, &sign);
+            let (mut fe, mut fo) = if scaled {
+                lane_factors(&exp, &sign)
+            } else {
+                ([1.0; N], sign)
+            };
             for j in 0..N {
                 col[0][j] = p1[j] * fe[j];
             }

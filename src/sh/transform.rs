@@ -100,21 +100,23 @@ impl ShTransform {
         let packed = pack_m_major(self.lmax, |l, m| coeffs[lm_index(l, m)]);
         let mut north = vec![vec![Complex64::default(); np]; RINGS];
         let mut south = north.clone();
+        let mut scratch = Vec::new();
         for (polars, pairs) in self.ring_blocks() {
             north
                 .iter_mut()
                 .chain(south.iter_mut())
                 .for_each(|v| v.fill(Complex64::default()));
-            self.legendre.for_each_column_lanes(&polars, |m, col| {
-                for (mm, s) in signed_orders(m) {
-                    let (e, o) = parity_dot_lanes(col, packed.column(mm));
-                    let b = self.bin(mm);
-                    for j in 0..pairs.len() {
-                        north[j][b] = s * (e[j] + o[j]);
-                        south[j][b] = s * (e[j] - o[j]);
+            self.legendre
+                .for_each_column_lanes(&polars, &mut scratch, |m, col| {
+                    for (mm, s) in signed_orders(m) {
+                        let (e, o) = parity_dot_lanes(col, packed.column(mm));
+                        let b = self.bin(mm);
+                        for j in 0..pairs.len() {
+                            north[j][b] = s * (e[j] + o[j]);
+                            south[j][b] = s * (e[j] - o[j]);
+                        }
                     }
-                }
-            });
+                });
             for (j, &(jn, js)) in pairs.iter().enumerate() {
                 self.inverse.process(&mut north[j]);
                 out[jn * np..(jn + 1) * np].copy_from_slice(&north[j]);
@@ -135,6 +137,7 @@ impl ShTransform {
         let mut acc = pack_m_major(self.lmax, |_, _| Complex64::default());
         let mut north = vec![vec![Complex64::default(); np]; RINGS];
         let mut south = north.clone();
+        let mut scratch = Vec::new();
         for (polars, pairs) in self.ring_blocks() {
             let mut w = [0.0; RINGS];
             for (j, &(jn, js)) in pairs.iter().enumerate() {
@@ -148,19 +151,20 @@ impl ShTransform {
                     south[j].fill(Complex64::default());
                 }
             }
-            self.legendre.for_each_column_lanes(&polars, |m, col| {
-                for (mm, s) in signed_orders(m) {
-                    let b = self.bin(mm);
-                    let mut even = [Complex64::default(); RINGS];
-                    let mut odd = [Complex64::default(); RINGS];
-                    for j in 0..pairs.len() {
-                        let (gn, gs) = (north[j][b], south[j][b]);
-                        even[j] = (gn + gs) * (w[j] * s);
-                        odd[j] = (gn - gs) * (w[j] * s);
+            self.legendre
+                .for_each_column_lanes(&polars, &mut scratch, |m, col| {
+                    for (mm, s) in signed_orders(m) {
+                        let b = self.bin(mm);
+                        let mut even = [Complex64::default(); RINGS];
+                        let mut odd = [Complex64::default(); RINGS];
+                        for j in 0..pairs.len() {
+                            let (gn, gs) = (north[j][b], south[j][b]);
+                            even[j] = (gn + gs) * (w[j] * s);
+                            odd[j] = (gn - gs) * (w[j] * s);
+                        }
+                        accumulate_lanes(col, &even, &odd, acc.column_mut(mm));
                     }
-                    accumulate_lanes(col, &even, &odd, acc.column_mut(mm));
-                }
-            });
+                });
         }
         for l in 0..=self.lmax {
             for m in -(l as i64)..=l as i64 {
@@ -190,23 +194,25 @@ impl ShTransform {
         });
         let mut z = vec![vec![Complex64::default(); np]; RINGS];
         let i = Complex64::i();
+        let mut scratch = Vec::new();
         for (polars, pairs) in self.ring_blocks() {
             z.iter_mut().for_each(|v| v.fill(Complex64::default()));
-            self.legendre.for_each_column_lanes(&polars, |m, col| {
-                let (e, o) = parity_dot_lanes(col, packed.column(m as i64));
-                // Pack: z = f_north + i f_south, spectrum Z_m = N_m + i S_m at m and
-                // conj(N_m) + i conj(S_m) at -m.
-                let (bp, bm) = (self.bin(m as i64), self.bin(-(m as i64)));
-                for j in 0..pairs.len() {
-                    let (cn, cs) = (e[j] + o[j], e[j] - o[j]);
-                    if m == 0 {
-                        z[j][0] = Complex64::new(cn.re, cs.re);
-                    } else {
-                        z[j][bp] = cn + i * cs;
-                        z[j][bm] = cn.conj() + i * cs.conj();
+            self.legendre
+                .for_each_column_lanes(&polars, &mut scratch, |m, col| {
+                    let (e, o) = parity_dot_lanes(col, packed.column(m as i64));
+                    // Pack: z = f_north + i f_south, spectrum Z_m = N_m + i S_m at m and
+                    // conj(N_m) + i conj(S_m) at -m.
+                    let (bp, bm) = (self.bin(m as i64), self.bin(-(m as i64)));
+                    for j in 0..pairs.len() {
+                        let (cn, cs) = (e[j] + o[j], e[j] - o[j]);
+                        if m == 0 {
+                            z[j][0] = Complex64::new(cn.re, cs.re);
+                        } else {
+                            z[j][bp] = cn + i * cs;
+                            z[j][bm] = cn.conj() + i * cs.conj();
+                        }
                     }
-                }
-            });
+                });
             for (j, &(jn, js)) in pairs.iter().enumerate() {
                 self.inverse.process(&mut z[j]);
                 for (k, v) in z[j].iter().enumerate() {
@@ -229,6 +235,7 @@ impl ShTransform {
         // cosine coefficient, minus the imaginary part the sine one (int f sin(m phi)).
         let mut acc = pack_m_major(self.lmax, |_, _| Complex64::default());
         let mut z = vec![vec![Complex64::default(); np]; RINGS];
+        let mut scratch = Vec::new();
         for (polars, pairs) in self.ring_blocks() {
             let mut w = [0.0; RINGS];
             for (j, &(jn, js)) in pairs.iter().enumerate() {
@@ -239,21 +246,22 @@ impl ShTransform {
                 }
                 self.forward.process(&mut z[j]);
             }
-            self.legendre.for_each_column_lanes(&polars, |m, col| {
-                let (bp, bm) = (self.bin(m as i64), self.bin(-(m as i64)));
-                let scale = if m == 0 { 1.0 } else { SQRT_2 };
-                let mut even = [Complex64::default(); RINGS];
-                let mut odd = [Complex64::default(); RINGS];
-                for j in 0..pairs.len() {
-                    // Unpack G_north(m), G_south(m) from Z_m and conj(Z_{-m}).
-                    let (zp, zm) = (z[j][bp], z[j][bm].conj());
-                    let gn = 0.5 * (zp + zm);
-                    let gs = Complex64::new(0.0, -0.5) * (zp - zm);
-                    even[j] = (gn + gs) * (w[j] * scale);
-                    odd[j] = (gn - gs) * (w[j] * scale);
-                }
-                accumulate_lanes(col, &even, &odd, acc.column_mut(m as i64));
-            });
+            self.legendre
+                .for_each_column_lanes(&polars, &mut scratch, |m, col| {
+                    let (bp, bm) = (self.bin(m as i64), self.bin(-(m as i64)));
+                    let scale = if m == 0 { 1.0 } else { SQRT_2 };
+                    let mut even = [Complex64::default(); RINGS];
+                    let mut odd = [Complex64::default(); RINGS];
+                    for j in 0..pairs.len() {
+                        // Unpack G_north(m), G_south(m) from Z_m and conj(Z_{-m}).
+                        let (zp, zm) = (z[j][bp], z[j][bm].conj());
+                        let gn = 0.5 * (zp + zm);
+                        let gs = Complex64::new(0.0, -0.5) * (zp - zm);
+                        even[j] = (gn + gs) * (w[j] * scale);
+                        odd[j] = (gn - gs) * (w[j] * scale);
+                    }
+                    accumulate_lanes(col, &even, &odd, acc.column_mut(m as i64));
+                });
         }
         for l in 0..=self.lmax {
             for m in 0..=l {
