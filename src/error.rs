@@ -14,6 +14,18 @@ pub enum Error {
     #[error("direction {value:?} is not a unit vector (norm {norm})")]
     NonUnitDirection { value: [f64; 3], norm: f64 },
 
+    /// Two frames (or Stokes vectors, or Mueller transforms) that must belong to the same
+    /// ray have different ray directions (their `z` axes differ by more than `tolerance`
+    /// in Euclidean distance). PSH (17), (18), (22) are defined only within one ray.
+    #[error("{what}: frames of different rays, z = {first:?} and {second:?} (distance {distance:e} > tolerance {tolerance:e})")]
+    DifferentRays {
+        what: &'static str,
+        first: [f64; 3],
+        second: [f64; 3],
+        distance: f64,
+        tolerance: f64,
+    },
+
     /// A degree (band index) beyond what the routine supports.
     #[error("degree {name} = {value} out of range: {reason}")]
     DegreeOutOfRange {

@@ -12,4 +12,6 @@ pub use error::{Error, Result};
 pub mod exact;
 pub mod geometry;
 pub mod sh;
+pub mod stokes;
+pub mod swsh;
 pub mod verify;

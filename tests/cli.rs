@@ -63,6 +63,36 @@ fn eval_wigner_prints_blocks() {
 }
 
 #[test]
+fn eval_swsh_prints_spin_two_values() {
+    let out = psh(&[
+        "eval", "swsh", "--spin", "2", "--lmax", "3", "--theta", "0", "--phi", "0.5",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let values = v["values"].as_array().unwrap();
+    assert_eq!(values.len(), 16);
+    // l < 2 are zeros; at the north pole only m = -2 survives (PSH (27)), with modulus
+    // sqrt((2l+1)/(4 pi)) and phase e^{-2 i phi}.
+    for (i, p) in values.iter().enumerate() {
+        let (re, im) = (p[0].as_f64().unwrap(), p[1].as_f64().unwrap());
+        let (l, m) = psh::sh::lm_of_index(i);
+        if l >= 2 && m == -2 {
+            let e = ((2 * l + 1) as f64 / (4.0 * std::f64::consts::PI)).sqrt();
+            assert!(
+                (re - e * (-1.0f64).cos()).abs() < 1e-14
+                    && (im - e * (-1.0f64).sin()).abs() < 1e-14
+            );
+        } else {
+            assert!(re.abs() < 1e-15 && im.abs() < 1e-15, "l {l} m {m}");
+        }
+    }
+}
+
+#[test]
 fn bad_arguments_give_one_line_errors() {
     for args in [
         &[

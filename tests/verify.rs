@@ -42,3 +42,8 @@ fn verify_zonal() {
 fn verify_gaunt() {
     run_group("gaunt.");
 }
+
+#[test]
+fn verify_swsh() {
+    run_group("swsh.");
+}

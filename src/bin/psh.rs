@@ -42,7 +42,28 @@ enum Eval {
     Sh(ShArgs),
     /// Wigner D blocks l <= lmax of the rotation given by a rotation vector.
     Wigner(WignerArgs),
+    /// Spin-weighted SH sY_lm of all l <= lmax at one direction (flat order, zeros where
+    /// l < |spin|), as [re, im] pairs.
+    Swsh(SwshArgs),
 }
+
+#[derive(Args)]
+struct SwshArgs {
+    /// Spin weight s (2 for linear polarization).
+    #[arg(long, allow_hyphen_values = true)]
+    spin: i64,
+    #[arg(long)]
+    lmax: usize,
+    /// Polar angle in radians, in [0, pi].
+    #[arg(long, allow_hyphen_values = true)]
+    theta: f64,
+    /// Azimuth in radians.
+    #[arg(long, allow_hyphen_values = true)]
+    phi: f64,
+}
+
+/// Largest degree `psh eval swsh` evaluates (the Wigner recursion costs lmax^3).
+const MAX_SWSH_EVAL_DEGREE: usize = 2048;
 
 #[derive(Clone, Copy, ValueEnum)]
 enum Kind {
@@ -108,6 +129,7 @@ fn main() -> ExitCode {
         Command::Verify { json, filter } => return verify(json, filter.as_deref()),
         Command::Eval(Eval::Sh(a)) => eval_sh(&a),
         Command::Eval(Eval::Wigner(a)) => eval_wigner(&a),
+        Command::Eval(Eval::Swsh(a)) => eval_swsh(&a),
     };
     match result {
         Ok(v) => {
@@ -173,6 +195,18 @@ fn eval_sh(a: &ShArgs) -> psh::Result<serde_json::Value> {
     Ok(
         json!({"lmax": a.lmax, "theta": a.theta, "phi": a.phi, "kind": a.kind.name(), "values": values}),
     )
+}
+
+fn eval_swsh(a: &SwshArgs) -> psh::Result<serde_json::Value> {
+    if a.lmax > MAX_SWSH_EVAL_DEGREE {
+        return Err(Error::DegreeOutOfRange {
+            name: "lmax",
+            value: a.lmax as i64,
+            reason: format!("psh eval swsh evaluates at most lmax = {MAX_SWSH_EVAL_DEGREE}"),
+        });
+    }
+    let values = pairs(psh::swsh::swsh(a.spin, a.lmax, a.theta, a.phi)?);
+    Ok(json!({"lmax": a.lmax, "spin": a.spin, "theta": a.theta, "phi": a.phi, "values": values}))
 }
 
 fn eval_wigner(a: &WignerArgs) -> psh::Result<serde_json::Value> {

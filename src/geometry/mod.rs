@@ -1,3 +1,4 @@
 //! Geometry: directions, frames and pixel grids on the sphere.
 
+pub mod frame;
 pub mod image_grid;

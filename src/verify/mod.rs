@@ -8,6 +8,7 @@
 
 mod oracle;
 mod sh;
+mod swsh;
 
 use crate::error::Result;
 use serde::Serialize;
@@ -46,7 +47,9 @@ pub struct CheckResult {
 
 /// Every check, in a stable order.
 pub fn checks() -> Vec<Check> {
-    sh::checks()
+    let mut all = sh::checks();
+    all.extend(swsh::checks());
+    all
 }
 
 impl Check {

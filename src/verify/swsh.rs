@@ -1,0 +1,114 @@
+//! Checks of the spin-weighted SH (`psh::swsh`).
+
+use super::Check;
+use crate::error::Result;
+use crate::sh::grid::SphereGrid;
+use crate::sh::{lm_index, num_coeffs};
+use crate::swsh::{spin2_closed_form, swsh};
+use num_complex::Complex64;
+use std::f64::consts::PI;
+
+pub fn checks() -> Vec<Check> {
+    vec![
+        Check {
+            id: "swsh.closed_form",
+            source: "PSH (26)",
+            description: "2Y_lm through Wigner d vs the closed form PSH (26a)-(26c), l <= 16, away from the poles",
+            tolerance: 1e-12,
+            proof: Some("proofs/swsh.md"),
+            run: closed_form,
+        },
+        Check {
+            id: "swsh.poles",
+            source: "PSH (27)",
+            description: "2Y_lm at both poles: only m = -2 (north) / m = 2 (south) non-zero, |value| = sqrt((2l+1)/(4pi)), l <= 64",
+            tolerance: 1e-13,
+            proof: Some("proofs/swsh.md"),
+            run: poles,
+        },
+        Check {
+            id: "swsh.orthonormality",
+            source: "PSH (26)",
+            description: "Gram matrix of 2Y_lm, l <= 10, on the exact Gauss-Legendre grid vs identity",
+            tolerance: 1e-13,
+            proof: Some("proofs/swsh.md"),
+            run: orthonormality,
+        },
+        Check {
+            id: "swsh.band_norm_l1024",
+            source: "PSH (26)",
+            description: "sum_m |2Y_lm|^2 = (2l+1)/(4pi) for every 2 <= l <= 1024 at theta = 1e-8, 0.3 (relative)",
+            tolerance: 1e-12,
+            proof: Some("proofs/swsh.md"),
+            run: band_norm_l1024,
+        },
+    ]
+}
+
+fn closed_form() -> Result<f64> {
+    let lmax = 16;
+    let mut worst = 0.0f64;
+    for &(t, p) in &[(0.2, 0.3), (1.3, -2.0), (2.9, 1.1)] {
+        let y = swsh(2, lmax, t, p)?;
+        for l in 2..=lmax {
+            let scale = ((2 * l + 1) as f64 / (4.0 * PI)).sqrt();
+            for m in -(l as i64)..=l as i64 {
+                let e = spin2_closed_form(l, m, t, p)?;
+                worst = worst.max((y[lm_index(l, m)] - e).norm() / scale);
+            }
+        }
+    }
+    Ok(worst)
+}
+
+fn poles() -> Result<f64> {
+    let lmax = 64;
+    let mut worst = 0.0f64;
+    for (theta, keep) in [(0.0, -2i64), (PI, 2)] {
+        let y = swsh(2, lmax, theta, 0.9)?;
+        for l in 2..=lmax {
+            let e = ((2 * l + 1) as f64 / (4.0 * PI)).sqrt();
+            for m in -(l as i64)..=l as i64 {
+                let v = y[lm_index(l, m)].norm();
+                worst = worst.max(if m == keep { (v - e).abs() / e } else { v / e });
+            }
+        }
+    }
+    Ok(worst)
+}
+
+fn orthonormality() -> Result<f64> {
+    let lmax = 10;
+    let g = SphereGrid::for_band_limit(lmax)?;
+    let n = num_coeffs(lmax);
+    let mut vals = vec![Complex64::default(); g.len() * n];
+    for p in 0..g.len() {
+        let (t, ph) = g.angles(p)?;
+        vals[p * n..(p + 1) * n].copy_from_slice(&swsh(2, lmax, t, ph)?);
+    }
+    let mut worst = 0.0f64;
+    for i in 4..n {
+        for j in i..n {
+            let s: Complex64 = (0..g.len())
+                .map(|p| g.point_weight(p) * vals[p * n + i].conj() * vals[p * n + j])
+                .sum();
+            let e = if i == j { 1.0 } else { 0.0 };
+            worst = worst.max((s - e).norm());
+        }
+    }
+    Ok(worst)
+}
+
+fn band_norm_l1024() -> Result<f64> {
+    let lmax = 1024;
+    let mut worst = 0.0f64;
+    for theta in [1e-8, 0.3] {
+        let y = swsh(2, lmax, theta, 0.4)?;
+        for l in 2..=lmax {
+            let s: f64 = (l * l..(l + 1) * (l + 1)).map(|i| y[i].norm_sqr()).sum();
+            let e = (2 * l + 1) as f64 / (4.0 * PI);
+            worst = worst.max(((s - e) / e).abs());
+        }
+    }
+    Ok(worst)
+}
