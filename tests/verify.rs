@@ -47,3 +47,8 @@ fn verify_gaunt() {
 fn verify_swsh() {
     run_group("swsh.");
 }
+
+#[test]
+fn verify_stokes() {
+    run_group("stokes.");
+}

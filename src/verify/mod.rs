@@ -8,6 +8,7 @@
 
 mod oracle;
 mod sh;
+mod stokes;
 mod swsh;
 
 use crate::error::Result;
@@ -49,6 +50,7 @@ pub struct CheckResult {
 pub fn checks() -> Vec<Check> {
     let mut all = sh::checks();
     all.extend(swsh::checks());
+    all.extend(stokes::checks());
     all
 }
 
