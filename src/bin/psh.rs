@@ -52,6 +52,13 @@ struct SwshArgs {
     /// Spin weight s (2 for linear polarization).
     #[arg(long, allow_hyphen_values = true)]
     spin: i64,
+    #[command(flatten)]
+    at: Evaluation,
+}
+
+/// The band limit and direction of an evaluation.
+#[derive(Args)]
+struct Evaluation {
     #[arg(long)]
     lmax: usize,
     /// Polar angle in radians, in [0, pi].
@@ -84,14 +91,8 @@ impl Kind {
 struct ShArgs {
     #[arg(long, value_enum)]
     kind: Kind,
-    #[arg(long)]
-    lmax: usize,
-    /// Polar angle in radians, in [0, pi].
-    #[arg(long, allow_hyphen_values = true)]
-    theta: f64,
-    /// Azimuth in radians.
-    #[arg(long, allow_hyphen_values = true)]
-    phi: f64,
+    #[command(flatten)]
+    at: Evaluation,
 }
 
 #[derive(Args)]
@@ -183,8 +184,9 @@ fn pairs(v: impl IntoIterator<Item = Complex64>) -> Vec<[f64; 2]> {
     v.into_iter().map(|z| [z.re, z.im]).collect()
 }
 
-fn eval_sh(a: &ShArgs) -> psh::Result<serde_json::Value> {
-    let values = match a.kind {
+fn eval_sh(args: &ShArgs) -> psh::Result<serde_json::Value> {
+    let a = &args.at;
+    let values = match args.kind {
         Kind::Real => pairs(
             sh_real(a.lmax, a.theta, a.phi)?
                 .into_iter()
@@ -193,11 +195,12 @@ fn eval_sh(a: &ShArgs) -> psh::Result<serde_json::Value> {
         Kind::Complex => pairs(sh_complex(a.lmax, a.theta, a.phi)?),
     };
     Ok(
-        json!({"lmax": a.lmax, "theta": a.theta, "phi": a.phi, "kind": a.kind.name(), "values": values}),
+        json!({"lmax": a.lmax, "theta": a.theta, "phi": a.phi, "kind": args.kind.name(), "values": values}),
     )
 }
 
-fn eval_swsh(a: &SwshArgs) -> psh::Result<serde_json::Value> {
+fn eval_swsh(args: &SwshArgs) -> psh::Result<serde_json::Value> {
+    let a = &args.at;
     if a.lmax > MAX_SWSH_EVAL_DEGREE {
         return Err(Error::DegreeOutOfRange {
             name: "lmax",
@@ -205,8 +208,8 @@ fn eval_swsh(a: &SwshArgs) -> psh::Result<serde_json::Value> {
             reason: format!("psh eval swsh evaluates at most lmax = {MAX_SWSH_EVAL_DEGREE}"),
         });
     }
-    let values = pairs(psh::swsh::swsh(a.spin, a.lmax, a.theta, a.phi)?);
-    Ok(json!({"lmax": a.lmax, "spin": a.spin, "theta": a.theta, "phi": a.phi, "values": values}))
+    let values = pairs(psh::swsh::swsh(args.spin, a.lmax, a.theta, a.phi)?);
+    Ok(json!({"lmax": a.lmax, "spin": args.spin, "theta": a.theta, "phi": a.phi, "values": values}))
 }
 
 fn eval_wigner(a: &WignerArgs) -> psh::Result<serde_json::Value> {
