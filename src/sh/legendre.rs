@@ -33,10 +33,10 @@ use std::ops::{Mul, Sub};
 use twofloat::TwoFloat;
 
 /// Exponent step of the scaled recursion: values are `mantissa * 2^(-SCALE_BITS * k)`.
-const SCALE_BITS: i32 = 600;
+pub(crate) const SCALE_BITS: i32 = 600;
 /// `2^SCALE_BITS` and its inverse.
-const BIG: f64 = f64::from_bits(((1023 + SCALE_BITS) as u64) << 52);
-const SMALL: f64 = f64::from_bits(((1023 - SCALE_BITS) as u64) << 52);
+pub(crate) const BIG: f64 = f64::from_bits(((1023 + SCALE_BITS) as u64) << 52);
+pub(crate) const SMALL: f64 = f64::from_bits(((1023 - SCALE_BITS) as u64) << 52);
 
 /// A polar angle reduced to the northern hemisphere: `cos >= 0`, `sin >= 0`,
 /// `vers = 1 - cos` to full relative accuracy, and whether it was mirrored from the south.
@@ -423,7 +423,7 @@ fn lane_factors<const N: usize>(exp: &[i32; N], sign: &[f64; N]) -> ([f64; N], [
 /// `p * 2^exp` for `exp` a non-positive multiple of `SCALE_BITS` and `|p| <= 2^SCALE_BITS`,
 /// without intermediate underflow to zero of the scale factor.
 #[inline]
-fn descale(mut p: f64, mut exp: i32) -> f64 {
+pub(crate) fn descale(mut p: f64, mut exp: i32) -> f64 {
     while exp < 0 && p != 0.0 {
         p *= SMALL;
         exp += SCALE_BITS;

@@ -15,6 +15,8 @@
 //! included; evaluating one direction costs `O(lmax^3)` (all blocks), which is meant for
 //! single directions and reference values, not for transforms.
 
+pub mod transform;
+
 use crate::error::{finite, Error, Result};
 use crate::sh::harmonics::{cis_m, sh_complex};
 use crate::sh::wigner::SmallDRecursion;

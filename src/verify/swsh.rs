@@ -1,9 +1,10 @@
 //! Checks of the spin-weighted SH (`psh::swsh`).
 
-use super::Check;
+use super::{pseudo_random, Check};
 use crate::error::Result;
 use crate::sh::grid::SphereGrid;
 use crate::sh::{lm_index, num_coeffs};
+use crate::swsh::transform::SpinTransform;
 use crate::swsh::{spin2_closed_form, swsh};
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -33,6 +34,22 @@ pub fn checks() -> Vec<Check> {
             tolerance: 1e-13,
             proof: Some("proofs/swsh.md"),
             run: orthonormality,
+        },
+        Check {
+            id: "swsh.transform_round_trip_256",
+            source: "PSH (32)",
+            description: "spin-2 synthesis then analysis on the exact grid, L = 256 (relative to max |a_lm|)",
+            tolerance: 1e-12,
+            proof: Some("proofs/swsh.md"),
+            run: transform_round_trip,
+        },
+        Check {
+            id: "swsh.transform_vs_pointwise",
+            source: "PSH (26)",
+            description: "spin-2 synthesis by the l-recursion vs sum of Risbo-evaluated 2Y_lm at grid points incl. the rings nearest the poles, L = 64 (relative)",
+            tolerance: 1e-12,
+            proof: Some("proofs/swsh.md"),
+            run: transform_vs_pointwise,
         },
         Check {
             id: "swsh.band_norm_l1024",
@@ -94,6 +111,56 @@ fn orthonormality() -> Result<f64> {
                 .sum();
             let e = if i == j { 1.0 } else { 0.0 };
             worst = worst.max((s - e).norm());
+        }
+    }
+    Ok(worst)
+}
+
+fn random_spin2_coeffs(lmax: usize, seed: u64) -> Vec<Complex64> {
+    let re = pseudo_random(num_coeffs(lmax), seed);
+    let im = pseudo_random(num_coeffs(lmax), seed + 1);
+    (0..num_coeffs(lmax))
+        .map(|i| {
+            if i < 4 {
+                Complex64::default()
+            } else {
+                Complex64::new(re[i], im[i])
+            }
+        })
+        .collect()
+}
+
+fn transform_round_trip() -> Result<f64> {
+    let lmax = 256;
+    let t = SpinTransform::new(2, lmax)?;
+    let c = random_spin2_coeffs(lmax, 31);
+    let mut f = vec![Complex64::default(); t.grid().len()];
+    t.synthesis(&c, &mut f)?;
+    let mut back = vec![Complex64::default(); c.len()];
+    t.analysis(&f, &mut back)?;
+    let scale = c.iter().fold(0.0f64, |m, z| m.max(z.norm()));
+    Ok(c.iter()
+        .zip(&back)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).norm()))
+        / scale)
+}
+
+fn transform_vs_pointwise() -> Result<f64> {
+    let lmax = 64;
+    let t = SpinTransform::new(2, lmax)?;
+    let c = random_spin2_coeffs(lmax, 37);
+    let mut f = vec![Complex64::default(); t.grid().len()];
+    t.synthesis(&c, &mut f)?;
+    let np = t.grid().n_phi;
+    let rings = t.grid().rings.len();
+    let mut worst = 0.0f64;
+    for j in [0, 1, rings / 3, rings - 2, rings - 1] {
+        for k in [0, np / 3] {
+            let i = j * np + k;
+            let (th, ph) = t.grid().angles(i)?;
+            let y = swsh(2, lmax, th, ph)?;
+            let v: Complex64 = y.iter().zip(&c).map(|(a, b)| a * b).sum();
+            worst = worst.max((v - f[i]).norm() / v.norm().max(1.0));
         }
     }
     Ok(worst)
