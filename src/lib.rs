@@ -11,6 +11,7 @@ pub use error::{Error, Result};
 #[cfg(feature = "exact")]
 pub mod exact;
 pub mod geometry;
+pub mod polarized;
 pub mod sh;
 pub mod stokes;
 pub mod swsh;

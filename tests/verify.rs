@@ -52,3 +52,8 @@ fn verify_swsh() {
 fn verify_stokes() {
     run_group("stokes.");
 }
+
+#[test]
+fn verify_polarized() {
+    run_group("polarized.");
+}

@@ -7,6 +7,7 @@
 //! "passed"}` (plus `"proof"`, the derivation's page in `proofs/`, when there is one).
 
 mod oracle;
+mod polarized;
 mod sh;
 mod stokes;
 mod swsh;
@@ -51,6 +52,7 @@ pub fn checks() -> Vec<Check> {
     let mut all = sh::checks();
     all.extend(swsh::checks());
     all.extend(stokes::checks());
+    all.extend(polarized::checks());
     all
 }
 

@@ -1,0 +1,382 @@
+//! Polarized spherical harmonics (PSH Sec. 6.2): the basis PSH (29) with index set
+//! PSH (31), real coefficient vectors PSH (34), projection PSH (32) and reconstruction
+//! PSH (30) on the exact grid, and rotation PSH (35)-(37).
+//!
+//! With the linear part of a Stokes field written as the complex spin-2 field
+//! `z = s1 + i s2` (components in the theta-phi frame field, PSH (28)):
+//!
+//! - `Y_lm0 = [Y^R_lm, 0, 0, 0]`, `Y_lm3 = [0, 0, 0, Y^R_lm]` (real SH, PSH (12));
+//! - `Y_lm1` has `z = 2Y_lm` and `Y_lm2` has `z = i 2Y_lm` (PSH (29)), so that
+//!   `f_lm1 + i f_lm2 = <2Y_lm, z>` (PSH (32)-(34)) and `z = sum (f_lm1 + i f_lm2) 2Y_lm`.
+//!
+//! The index set PSH (31): `l >= 0` for `p = 0, 3`, `l >= 2` for `p = 1, 2`; coefficients
+//! outside it are stored as zeros. Storage follows the polarsh `.npz` layout
+//! `coeff[channel][l*l + l + m][p]`, `p` running over the codomain's components.
+
+mod rotation;
+
+pub use rotation::PshRotation;
+
+use crate::error::{check_len, Error, Result};
+use crate::sh::transform::ShTransform;
+use crate::sh::{lm_index, num_coeffs};
+use crate::swsh::transform::SpinTransform;
+use num_complex::Complex64;
+
+/// Which Stokes components a field or coefficient vector carries (polarsh `cod_type`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Codomain {
+    /// Linear polarization only, `{s1, s2}` (`POLAR2`).
+    Linear,
+    /// `{s0, s1, s2}` (`POLAR3`).
+    NoCircular,
+    /// The full Stokes vector `{s0, s1, s2, s3}` (`POLAR4`).
+    Full,
+}
+
+impl Codomain {
+    /// The Stokes components present, in storage order.
+    pub fn components(self) -> &'static [usize] {
+        match self {
+            Codomain::Linear => &[1, 2],
+            Codomain::NoCircular => &[0, 1, 2],
+            Codomain::Full => &[0, 1, 2, 3],
+        }
+    }
+
+    /// The polarsh name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Codomain::Linear => "POLAR2",
+            Codomain::NoCircular => "POLAR3",
+            Codomain::Full => "POLAR4",
+        }
+    }
+
+    /// From a polarsh name.
+    pub fn from_name(name: &str) -> Result<Self> {
+        match name {
+            "POLAR2" => Ok(Codomain::Linear),
+            "POLAR3" => Ok(Codomain::NoCircular),
+            "POLAR4" => Ok(Codomain::Full),
+            _ => Err(Error::InvalidArgument {
+                name: "codomain",
+                value: name.into(),
+                reason: "expected POLAR2, POLAR3 or POLAR4".into(),
+            }),
+        }
+    }
+}
+
+/// A PSH coefficient vector PSH (34): real coefficients `f_lmp` for `l <= lmax`, the
+/// components of `codomain`, and `channels` colour channels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PshVector {
+    lmax: usize,
+    codomain: Codomain,
+    channels: usize,
+    /// `[channel][l*l + l + m][p]`.
+    data: Vec<f64>,
+}
+
+impl PshVector {
+    /// All-zero coefficients.
+    pub fn zeros(lmax: usize, codomain: Codomain, channels: usize) -> Result<Self> {
+        crate::sh::check_lmax(lmax)?;
+        if channels == 0 {
+            return Err(Error::InvalidArgument {
+                name: "channels",
+                value: "0".into(),
+                reason: "at least one channel".into(),
+            });
+        }
+        let n = channels * num_coeffs(lmax) * codomain.components().len();
+        Ok(Self {
+            lmax,
+            codomain,
+            channels,
+            data: vec![0.0; n],
+        })
+    }
+
+    /// From data in the layout `[channel][l*l + l + m][p]`; coefficients outside the index
+    /// set PSH (31) must be zero, and every value finite.
+    pub fn from_data(
+        lmax: usize,
+        codomain: Codomain,
+        channels: usize,
+        data: Vec<f64>,
+    ) -> Result<Self> {
+        let mut v = Self::zeros(lmax, codomain, channels)?;
+        check_len("PSH coefficients", v.data.len(), data.len())?;
+        if let Some(x) = data.iter().find(|x| !x.is_finite()) {
+            return Err(Error::NonFinite {
+                name: "PSH coefficient",
+                value: *x,
+            });
+        }
+        v.data = data;
+        for c in 0..channels {
+            for i in 0..4.min(num_coeffs(lmax)) {
+                for (k, &p) in codomain.components().iter().enumerate() {
+                    let x = v.data[v.offset(c, i) + k];
+                    if (p == 1 || p == 2) && x != 0.0 {
+                        return Err(Error::InvalidArgument {
+                            name: "PSH coefficient",
+                            value: format!("f[{c}][{i}][{p}] = {x}"),
+                            reason: "spin-2 coefficients start at l = 2 (PSH (31))".into(),
+                        });
+                    }
+                }
+            }
+        }
+        Ok(v)
+    }
+
+    /// The band limit.
+    pub fn lmax(&self) -> usize {
+        self.lmax
+    }
+
+    /// The codomain.
+    pub fn codomain(&self) -> Codomain {
+        self.codomain
+    }
+
+    /// Number of channels.
+    pub fn channels(&self) -> usize {
+        self.channels
+    }
+
+    /// The data, `[channel][l*l + l + m][p]`.
+    pub fn data(&self) -> &[f64] {
+        &self.data
+    }
+
+    fn offset(&self, channel: usize, lm: usize) -> usize {
+        (channel * num_coeffs(self.lmax) + lm) * self.codomain.components().len()
+    }
+
+    /// `f_lmp` (0 outside the codomain or the index set), or an error for an index out of
+    /// range.
+    pub fn get(&self, channel: usize, l: usize, m: i64, p: usize) -> Result<f64> {
+        self.check_index(channel, l, m)?;
+        Ok(
+            match self.codomain.components().iter().position(|&q| q == p) {
+                Some(k) => self.data[self.offset(channel, lm_index(l, m)) + k],
+                None => 0.0,
+            },
+        )
+    }
+
+    fn check_index(&self, channel: usize, l: usize, m: i64) -> Result<()> {
+        crate::sh::check_lm(l as i64, m)?;
+        if l > self.lmax || channel >= self.channels {
+            return Err(Error::InvalidArgument {
+                name: "PSH index",
+                value: format!("channel {channel}, l {l}"),
+                reason: format!("{} channels, lmax {}", self.channels, self.lmax),
+            });
+        }
+        Ok(())
+    }
+
+    /// Component `p` of channel `c` as a flat SH vector (`l*l + l + m`).
+    fn component(&self, c: usize, k: usize) -> Vec<f64> {
+        (0..num_coeffs(self.lmax))
+            .map(|i| self.data[self.offset(c, i) + k])
+            .collect()
+    }
+
+    fn set_component(&mut self, c: usize, k: usize, v: &[f64]) {
+        for (i, &x) in v.iter().enumerate() {
+            let o = self.offset(c, i) + k;
+            self.data[o] = x;
+        }
+    }
+
+    /// The spin-2 coefficients `f_lm1 + i f_lm2` of channel `c` (flat order; zero for `l < 2`).
+    fn spin2(&self, c: usize) -> Vec<Complex64> {
+        let comps = self.codomain.components();
+        let k1 = comps
+            .iter()
+            .position(|&p| p == 1)
+            .expect("every codomain has s1");
+        let (re, im) = (self.component(c, k1), self.component(c, k1 + 1));
+        re.iter()
+            .zip(&im)
+            .map(|(&a, &b)| Complex64::new(a, b))
+            .collect()
+    }
+
+    fn set_spin2(&mut self, c: usize, z: &[Complex64]) {
+        let comps = self.codomain.components();
+        let k1 = comps
+            .iter()
+            .position(|&p| p == 1)
+            .expect("every codomain has s1");
+        let re: Vec<f64> = z.iter().map(|v| v.re).collect();
+        let im: Vec<f64> = z.iter().map(|v| v.im).collect();
+        self.set_component(c, k1, &re);
+        self.set_component(c, k1 + 1, &im);
+    }
+}
+
+/// Projection PSH (32) and reconstruction PSH (30) on the exact grid of band limit `lmax`.
+pub struct PshTransform {
+    scalar: ShTransform,
+    spin2: SpinTransform,
+}
+
+impl std::fmt::Debug for PshTransform {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PshTransform")
+            .field("lmax", &self.lmax())
+            .finish()
+    }
+}
+
+impl PshTransform {
+    /// Transforms for band limit `lmax >= 2` on the smallest exact grid.
+    pub fn new(lmax: usize) -> Result<Self> {
+        let scalar = ShTransform::new(lmax)?;
+        let spin2 = SpinTransform::with_grid(2, lmax, scalar.grid().clone())?;
+        Ok(Self { scalar, spin2 })
+    }
+
+    /// The band limit.
+    pub fn lmax(&self) -> usize {
+        self.scalar.lmax()
+    }
+
+    /// The grid (values ring-major).
+    pub fn grid(&self) -> &crate::sh::grid::SphereGrid {
+        self.scalar.grid()
+    }
+
+    /// Projection PSH (32) of one channel of Stokes components `[s0, s1, s2, s3]` given at
+    /// the grid points in the theta-phi frame field (PSH (28)); components outside
+    /// `codomain` are ignored. Exact for band-limited fields.
+    pub fn project(&self, stokes: &[[f64; 4]], codomain: Codomain) -> Result<PshVector> {
+        self.project_channels(&[stokes], codomain)
+    }
+
+    /// Projection of several channels.
+    pub fn project_channels(
+        &self,
+        channels: &[&[[f64; 4]]],
+        codomain: Codomain,
+    ) -> Result<PshVector> {
+        let mut out = PshVector::zeros(self.lmax(), codomain, channels.len())?;
+        let n = num_coeffs(self.lmax());
+        for (c, field) in channels.iter().enumerate() {
+            check_len("Stokes field", self.grid().len(), field.len())?;
+            if let Some(x) = field.iter().flatten().find(|x| !x.is_finite()) {
+                return Err(Error::NonFinite {
+                    name: "Stokes component",
+                    value: *x,
+                });
+            }
+            for (k, &p) in codomain.components().iter().enumerate() {
+                if p == 0 || p == 3 {
+                    let values: Vec<f64> = field.iter().map(|s| s[p]).collect();
+                    let mut coeffs = vec![0.0; n];
+                    self.scalar.analysis_real(&values, &mut coeffs)?;
+                    out.set_component(c, k, &coeffs);
+                }
+            }
+            let z: Vec<Complex64> = field.iter().map(|s| Complex64::new(s[1], s[2])).collect();
+            let mut a = vec![Complex64::default(); n];
+            self.spin2.analysis(&z, &mut a)?;
+            out.set_spin2(c, &a);
+        }
+        Ok(out)
+    }
+
+    /// Reconstruction PSH (30): the Stokes components `[s0, s1, s2, s3]` of channel `c` at
+    /// the grid points, in the theta-phi frame field (absent components are 0).
+    pub fn reconstruct(&self, v: &PshVector, c: usize) -> Result<Vec<[f64; 4]>> {
+        if v.lmax() != self.lmax() || c >= v.channels() {
+            return Err(Error::InvalidArgument {
+                name: "PSH vector",
+                value: format!("lmax {}, channel {c}", v.lmax()),
+                reason: format!(
+                    "this transform has lmax {} ({} channels given)",
+                    self.lmax(),
+                    v.channels()
+                ),
+            });
+        }
+        let npts = self.grid().len();
+        let mut out = vec![[0.0; 4]; npts];
+        for (k, &p) in v.codomain().components().iter().enumerate() {
+            if p == 0 || p == 3 {
+                let mut f = vec![0.0; npts];
+                self.scalar.synthesis_real(&v.component(c, k), &mut f)?;
+                for (o, x) in out.iter_mut().zip(f) {
+                    o[p] = x;
+                }
+            }
+        }
+        let mut z = vec![Complex64::default(); npts];
+        self.spin2.synthesis(&v.spin2(c), &mut z)?;
+        for (o, x) in out.iter_mut().zip(z) {
+            o[1] = x.re;
+            o[2] = x.im;
+        }
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn index_set_and_bad_input() {
+        let mut data = vec![0.0; num_coeffs(3) * 4];
+        // (l, m) = (1, -1) is flat index 1; its s1 slot (p = 1) is outside PSH (31).
+        data[4 + 1] = 1.0;
+        assert!(PshVector::from_data(3, Codomain::Full, 1, data.clone()).is_err());
+        data[4 + 1] = 0.0;
+        data[0] = f64::NAN;
+        assert!(PshVector::from_data(3, Codomain::Full, 1, data).is_err());
+        assert!(PshVector::zeros(3, Codomain::Linear, 0).is_err());
+        assert!(Codomain::from_name("POLAR5").is_err());
+        assert_eq!(Codomain::from_name("POLAR3").unwrap(), Codomain::NoCircular);
+        let v = PshVector::zeros(3, Codomain::Linear, 2).unwrap();
+        assert_eq!(v.get(1, 3, -3, 0).unwrap(), 0.0);
+        assert!(v.get(2, 1, 0, 1).is_err());
+        assert!(v.get(0, 1, 2, 1).is_err());
+    }
+
+    #[test]
+    fn linear_codomain_round_trips() {
+        let lmax = 6;
+        let t = PshTransform::new(lmax).unwrap();
+        let mut v = PshVector::zeros(lmax, Codomain::Linear, 1).unwrap();
+        let re = crate::verify::pseudo_random(num_coeffs(lmax), 9);
+        let z: Vec<Complex64> = re
+            .iter()
+            .enumerate()
+            .map(|(i, &x)| {
+                if i < 4 {
+                    Complex64::default()
+                } else {
+                    Complex64::new(x, 1.0 - x)
+                }
+            })
+            .collect();
+        v.set_spin2(0, &z);
+        let f = t.reconstruct(&v, 0).unwrap();
+        assert!(f.iter().all(|s| s[0] == 0.0 && s[3] == 0.0));
+        let back = t.project(&f, Codomain::Linear).unwrap();
+        for (a, b) in v.data().iter().zip(back.data()) {
+            assert!((a - b).abs() < 1e-13);
+        }
+        assert!(t.reconstruct(&v, 1).is_err());
+        let mut bad = f.clone();
+        bad[3][1] = f64::INFINITY;
+        assert!(t.project(&bad, Codomain::Linear).is_err());
+    }
+}

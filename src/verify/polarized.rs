@@ -1,0 +1,117 @@
+//! Checks of the polarized SH (`psh::polarized`).
+
+use super::{pseudo_random, Check};
+use crate::error::Result;
+use crate::geometry::frame::ThetaPhiFrameField;
+use crate::polarized::{Codomain, PshRotation, PshTransform, PshVector};
+use crate::sh::harmonics::{direction_angles, sh_real};
+use crate::sh::num_coeffs;
+use crate::sh::wigner::rotation_from_rotvec;
+use crate::stokes::{StokesComponents, StokesVector};
+use crate::swsh::swsh;
+use nalgebra::Vector3;
+use num_complex::Complex64;
+
+pub fn checks() -> Vec<Check> {
+    vec![
+        Check {
+            id: "polarized.round_trip",
+            source: "PSH (30), (32)",
+            description: "PSH reconstruction then projection on the exact grid, full Stokes, 3 channels, L = 32 (relative to max |f_lmp|)",
+            tolerance: 1e-12,
+            proof: None,
+            run: round_trip,
+        },
+        Check {
+            id: "polarized.rotation_invariance",
+            source: "PSH Fig. 11",
+            description: "reconstruction of rotated PSH coefficients PSH (35)-(37) vs the field rotated in the angular domain PSH (25) (Stokes vectors carried with their frames), L = 8, every grid point (relative)",
+            tolerance: 1e-12,
+            proof: Some("proofs/psh-rotation.md"),
+            run: rotation_invariance,
+        },
+    ]
+}
+
+/// Random coefficients on the index set PSH (31).
+pub fn random_psh(
+    lmax: usize,
+    codomain: Codomain,
+    channels: usize,
+    seed: u64,
+) -> Result<PshVector> {
+    let p = codomain.components().len();
+    let mut data = pseudo_random(channels * num_coeffs(lmax) * p, seed);
+    for (i, x) in data.iter_mut().enumerate() {
+        let lm = (i / p) % num_coeffs(lmax);
+        let comp = codomain.components()[i % p];
+        if lm < 4 && (comp == 1 || comp == 2) {
+            *x = 0.0;
+        }
+    }
+    PshVector::from_data(lmax, codomain, channels, data)
+}
+
+fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
+fn round_trip() -> Result<f64> {
+    let lmax = 32;
+    let t = PshTransform::new(lmax)?;
+    let v = random_psh(lmax, Codomain::Full, 3, 41)?;
+    let fields = (0..3)
+        .map(|c| t.reconstruct(&v, c))
+        .collect::<Result<Vec<_>>>()?;
+    let refs: Vec<&[[f64; 4]]> = fields.iter().map(|f| f.as_slice()).collect();
+    let back = t.project_channels(&refs, Codomain::Full)?;
+    let err: Vec<f64> = v
+        .data()
+        .iter()
+        .zip(back.data())
+        .map(|(a, b)| a - b)
+        .collect();
+    Ok(max_abs(&err) / max_abs(v.data()))
+}
+
+/// The Stokes vector of the PSH expansion of channel 0 at direction `w`, in the theta-phi
+/// frame there (PSH (30), evaluated pointwise with the single-direction SH and SWSH).
+fn evaluate(v: &PshVector, w: [f64; 3]) -> Result<StokesVector> {
+    let (t, p) = direction_angles(w)?;
+    let (yr, y2) = (sh_real(v.lmax(), t, p)?, swsh(2, v.lmax(), t, p)?);
+    let mut s = [0.0; 4];
+    let mut z = Complex64::default();
+    for l in 0..=v.lmax() {
+        for m in -(l as i64)..=l as i64 {
+            let i = crate::sh::lm_index(l, m);
+            s[0] += v.get(0, l, m, 0)? * yr[i];
+            s[3] += v.get(0, l, m, 3)? * yr[i];
+            z += Complex64::new(v.get(0, l, m, 1)?, v.get(0, l, m, 2)?) * y2[i];
+        }
+    }
+    (s[1], s[2]) = (z.re, z.im);
+    let frame = crate::geometry::frame::FrameField::frame(&ThetaPhiFrameField::new(), w)?;
+    Ok(StokesVector::new(StokesComponents::new(s)?, frame))
+}
+
+fn rotation_invariance() -> Result<f64> {
+    let lmax = 8;
+    let r = rotation_from_rotvec([0.9, -0.4, 1.7])?;
+    let v = random_psh(lmax, Codomain::Full, 1, 43)?;
+    let t = PshTransform::new(lmax)?;
+    let rotated = t.reconstruct(&PshRotation::new(&r, lmax)?.rotate(&v)?, 0)?;
+    let field = ThetaPhiFrameField::new();
+    let (mut worst, mut scale) = (0.0f64, 0.0f64);
+    for (i, got) in rotated.iter().enumerate() {
+        let w = t.grid().direction(i)?;
+        // PSH (25): R_F[f](w) = R_S[f(R^-1 w)], read in the theta-phi frame at w.
+        let src = r.inverse() * Vector3::from(w);
+        let s = evaluate(&v, [src.x, src.y, src.z])?.rotate(&r)?;
+        let expect = s.components_in(&crate::geometry::frame::FrameField::frame(&field, w)?)?;
+        for (a, b) in got.iter().zip(expect.to_array()) {
+            worst = worst.max((a - b).abs());
+            scale = scale.max(b.abs());
+        }
+    }
+    Ok(worst / scale)
+}
