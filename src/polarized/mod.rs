@@ -13,6 +13,7 @@
 //! outside it are stored as zeros. Storage follows the polarsh `.npz` layout
 //! `coeff[channel][l*l + l + m][p]`, `p` running over the codomain's components.
 
+pub mod figure10;
 mod rotation;
 
 pub use rotation::PshRotation;

@@ -3,6 +3,7 @@
 use super::{pseudo_random, Check};
 use crate::error::Result;
 use crate::geometry::frame::ThetaPhiFrameField;
+use crate::polarized::figure10::{off_block_fraction, rotation_coefficient_matrix, LinearBasis};
 use crate::polarized::{Codomain, PshRotation, PshTransform, PshVector};
 use crate::sh::harmonics::{direction_angles, sh_real};
 use crate::sh::num_coeffs;
@@ -30,7 +31,56 @@ pub fn checks() -> Vec<Check> {
             proof: Some("proofs/psh-rotation.md"),
             run: rotation_invariance,
         },
+        Check {
+            id: "polarized.spin2_block_diagonal",
+            source: "PSH Fig. 10(c)",
+            description: "largest off-block entry of the rotation's coefficient matrix under spin-2 SH (projected on the exact grid), and in-block deviation from D^l, l <= 6",
+            tolerance: 1e-12,
+            proof: Some("proofs/psh-rotation.md"),
+            run: spin2_block_diagonal,
+        },
+        Check {
+            id: "polarized.naive_not_block_diagonal",
+            source: "PSH Fig. 10(b)",
+            description: "1 / (off-block fraction of the squared norm) of the rotation's coefficient matrix under scalar SH on theta-phi components, l <= 6: passes when more than 5% of the matrix lies off the blocks (the naive approach is not rotation invariant)",
+            tolerance: 20.0,
+            proof: Some("proofs/psh-rotation.md"),
+            run: naive_not_block_diagonal,
+        },
     ]
+}
+
+fn fig10_rotation() -> Result<nalgebra::Rotation3<f64>> {
+    // The paper's Fig. 10 uses the rotation vector [10, 0.1, 0.2] (in its frame F_g).
+    rotation_from_rotvec([10.0, 0.1, 0.2])
+}
+
+fn spin2_block_diagonal() -> Result<f64> {
+    let lmax = 6;
+    let r = fig10_rotation()?;
+    let m = rotation_coefficient_matrix(LinearBasis::Spin2, &r, lmax, lmax)?;
+    let d = crate::sh::wigner::WignerD::new(&r, lmax)?;
+    let n = num_coeffs(lmax);
+    let mut worst = 0.0f64;
+    for i in 4..n {
+        for j in 4..n {
+            let ((l, mi), (lp, mj)) = (crate::sh::lm_of_index(i), crate::sh::lm_of_index(j));
+            let expect = if l == lp {
+                let nb = 2 * l + 1;
+                d.block(l)?[(mi + l as i64) as usize * nb + (mj + l as i64) as usize]
+            } else {
+                Complex64::default()
+            };
+            worst = worst.max((m[i * n + j] - expect).norm());
+        }
+    }
+    Ok(worst)
+}
+
+fn naive_not_block_diagonal() -> Result<f64> {
+    let lmax = 6;
+    let m = rotation_coefficient_matrix(LinearBasis::ScalarThetaPhi, &fig10_rotation()?, lmax, 48)?;
+    Ok(1.0 / off_block_fraction(&m, lmax))
 }
 
 /// Random coefficients on the index set PSH (31).
