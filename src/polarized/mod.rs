@@ -14,13 +14,19 @@
 //! `coeff[channel][l*l + l + m][p]`, `p` running over the codomain's components.
 
 pub mod figure10;
+mod image;
 mod rotation;
 
+pub use image::project_image;
 pub use rotation::PshRotation;
 
 use crate::error::{check_len, Error, Result};
+use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
+use crate::sh::harmonics::{direction_angles, sh_real};
 use crate::sh::transform::ShTransform;
 use crate::sh::{lm_index, num_coeffs};
+use crate::stokes::{StokesComponents, StokesVector};
+use crate::swsh::swsh;
 use crate::swsh::transform::SpinTransform;
 use num_complex::Complex64;
 
@@ -180,6 +186,38 @@ impl PshVector {
             });
         }
         Ok(())
+    }
+
+    /// The Stokes vector of channel `c` at the unit direction `w` by PSH (30), in the
+    /// theta-phi frame there (single-direction SH and SWSH: `O(lmax^3)`, for reference
+    /// values and tests).
+    pub fn evaluate(&self, c: usize, w: [f64; 3]) -> Result<StokesVector> {
+        if c >= self.channels {
+            return Err(Error::InvalidArgument {
+                name: "channel",
+                value: c.to_string(),
+                reason: format!("{} channels", self.channels),
+            });
+        }
+        let (t, p) = direction_angles(w)?;
+        let (yr, y2) = (sh_real(self.lmax, t, p)?, swsh(2, self.lmax, t, p)?);
+        let mut s = [0.0; 4];
+        let z: Complex64 = self.spin2(c).iter().zip(&y2).map(|(a, y)| a * y).sum();
+        (s[1], s[2]) = (z.re, z.im);
+        for (k, &q) in self.codomain.components().iter().enumerate() {
+            if q == 0 || q == 3 {
+                s[q] = self
+                    .component(c, k)
+                    .iter()
+                    .zip(&yr)
+                    .map(|(a, y)| a * y)
+                    .sum();
+            }
+        }
+        Ok(StokesVector::new(
+            StokesComponents::new(s)?,
+            ThetaPhiFrameField::new().frame(w)?,
+        ))
     }
 
     /// Component `p` of channel `c` as a flat SH vector (`l*l + l + m`).

@@ -24,6 +24,7 @@ use rustfft::{Fft, FftPlanner};
 use std::f64::consts::PI;
 use std::sync::Arc;
 
+#[derive(Debug)]
 /// Recursion data of one order `m`: its start degree, the start's `log2` magnitude parts
 /// and sign, and `[A_l, B_l, c_l]` for `l = l0 + 1..=lmax`.
 struct Column {
@@ -37,12 +38,19 @@ struct Column {
     coeffs: Vec<[f64; 3]>,
 }
 
-/// A planned spin-`s` transform pair for band limit `lmax`.
-pub struct SpinTransform {
+/// The recursion tables of the spin-`s` harmonics up to `lmax`: evaluates
+/// `Lambda_lm(theta)` for every order at any polar angle, `O(lmax^2)` per angle.
+#[derive(Debug)]
+pub struct SpinEvaluator {
     spin: i64,
     lmax: usize,
-    grid: SphereGrid,
     columns: Vec<Column>,
+}
+
+/// A planned spin-`s` transform pair for band limit `lmax`.
+pub struct SpinTransform {
+    eval: SpinEvaluator,
+    grid: SphereGrid,
     forward: Arc<dyn Fft<f64>>,
     inverse: Arc<dyn Fft<f64>>,
 }
@@ -50,8 +58,8 @@ pub struct SpinTransform {
 impl std::fmt::Debug for SpinTransform {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("SpinTransform")
-            .field("spin", &self.spin)
-            .field("lmax", &self.lmax)
+            .field("spin", &self.eval.spin)
+            .field("lmax", &self.eval.lmax)
             .finish()
     }
 }
@@ -65,28 +73,14 @@ impl SpinTransform {
     /// Spin-`s` transform on a given grid (checked to resolve `lmax`). `1 <= |s| <= lmax`
     /// (spin 0 is the scalar transform of [`crate::sh::transform`]).
     pub fn with_grid(spin: i64, lmax: usize, grid: SphereGrid) -> Result<Self> {
-        if spin == 0 || spin.unsigned_abs() as usize > lmax {
-            return Err(Error::InvalidArgument {
-                name: "spin",
-                value: spin.to_string(),
-                reason: format!(
-                    "a spin transform needs 1 <= |spin| <= lmax = {lmax} (spin 0: ShTransform)"
-                ),
-            });
-        }
+        let eval = SpinEvaluator::new(spin, lmax)?;
         grid.check_band_limit(lmax)?;
-        let mp = -spin;
-        let columns = (-(lmax as i64)..=lmax as i64)
-            .map(|m| column(m, mp, lmax))
-            .collect();
         let mut planner = FftPlanner::new();
         Ok(Self {
-            spin,
-            lmax,
+            eval,
             forward: planner.plan_fft_forward(grid.n_phi),
             inverse: planner.plan_fft_inverse(grid.n_phi),
             grid,
-            columns,
         })
     }
 
@@ -97,16 +91,96 @@ impl SpinTransform {
 
     /// The spin weight.
     pub fn spin(&self) -> i64 {
-        self.spin
+        self.eval.spin
+    }
+
+    /// The evaluator of the harmonics.
+    pub fn evaluator(&self) -> &SpinEvaluator {
+        &self.eval
     }
 
     fn bin(&self, m: i64) -> usize {
         m.rem_euclid(self.grid.n_phi as i64) as usize
     }
 
-    /// Walks the orders at ring angle `theta`: `f(m, l0, lambda)` with
-    /// `lambda[l - l0] = Lambda_lm(theta)`.
-    fn for_each_order(&self, theta: f64, mut f: impl FnMut(i64, usize, &[f64])) {
+    /// Synthesis: `f(theta_j, phi_k) = sum_{l >= |s|, m} a_lm sY_lm` onto the grid; entries
+    /// of `coeffs` with `l < |s|` are ignored.
+    pub fn synthesis(&self, coeffs: &[Complex64], out: &mut [Complex64]) -> Result<()> {
+        check_len("coefficients", num_coeffs(self.eval.lmax), coeffs.len())?;
+        check_len("grid values", self.grid.len(), out.len())?;
+        let np = self.grid.n_phi;
+        let mut ring = vec![Complex64::default(); np];
+        for j in 0..self.grid.rings.len() {
+            ring.fill(Complex64::default());
+            self.eval
+                .for_each_order(self.grid.rings.theta[j], |m, l0, lambda| {
+                    ring[self.bin(m)] = lambda
+                        .iter()
+                        .enumerate()
+                        .map(|(k, &v)| coeffs[lm_index(l0 + k, m)] * v)
+                        .sum();
+                });
+            self.inverse.process(&mut ring);
+            out[j * np..(j + 1) * np].copy_from_slice(&ring);
+        }
+        Ok(())
+    }
+
+    /// Analysis: `a_lm = <sY_lm, f>` by the exact rule; zeros where `l < |s|`.
+    pub fn analysis(&self, values: &[Complex64], out: &mut [Complex64]) -> Result<()> {
+        check_len("grid values", self.grid.len(), values.len())?;
+        check_len("coefficients", num_coeffs(self.eval.lmax), out.len())?;
+        let np = self.grid.n_phi;
+        out.fill(Complex64::default());
+        let mut ring = vec![Complex64::default(); np];
+        for j in 0..self.grid.rings.len() {
+            ring.copy_from_slice(&values[j * np..(j + 1) * np]);
+            self.forward.process(&mut ring);
+            let w = self.grid.weight(j);
+            self.eval
+                .for_each_order(self.grid.rings.theta[j], |m, l0, lambda| {
+                    let g = ring[self.bin(m)] * w;
+                    for (k, &v) in lambda.iter().enumerate() {
+                        out[lm_index(l0 + k, m)] += g * v;
+                    }
+                });
+        }
+        Ok(())
+    }
+}
+
+impl SpinEvaluator {
+    /// Tables for spin `s`, `1 <= |s| <= lmax` (spin 0: the scalar SH of [`crate::sh`]).
+    pub fn new(spin: i64, lmax: usize) -> Result<Self> {
+        crate::sh::check_lmax(lmax)?;
+        if spin == 0 || spin.unsigned_abs() as usize > lmax {
+            return Err(Error::InvalidArgument {
+                name: "spin",
+                value: spin.to_string(),
+                reason: format!(
+                    "the spin recursion needs 1 <= |spin| <= lmax = {lmax} (spin 0: scalar SH)"
+                ),
+            });
+        }
+        let mp = -spin;
+        let columns = (-(lmax as i64)..=lmax as i64)
+            .map(|m| column(m, mp, lmax))
+            .collect();
+        Ok(Self {
+            spin,
+            lmax,
+            columns,
+        })
+    }
+
+    /// The band limit.
+    pub fn lmax(&self) -> usize {
+        self.lmax
+    }
+
+    /// Walks the orders at polar angle `theta` (in `[0, pi]`, unchecked): `f(m, l0, lambda)`
+    /// with `lambda[l - l0] = Lambda_lm(theta)`, `l0 = max(|m|, |s|)`.
+    pub fn for_each_order(&self, theta: f64, mut f: impl FnMut(i64, usize, &[f64])) {
         let (sh, ch) = (0.5 * theta).sin_cos();
         let (log_c, log_s) = (ch.log2(), sh.log2());
         let u = 2.0 * sh * sh;
@@ -153,47 +227,17 @@ impl SpinTransform {
         }
     }
 
-    /// Synthesis: `f(theta_j, phi_k) = sum_{l >= |s|, m} a_lm sY_lm` onto the grid; entries
-    /// of `coeffs` with `l < |s|` are ignored.
-    pub fn synthesis(&self, coeffs: &[Complex64], out: &mut [Complex64]) -> Result<()> {
-        check_len("coefficients", num_coeffs(self.lmax), coeffs.len())?;
-        check_len("grid values", self.grid.len(), out.len())?;
-        let np = self.grid.n_phi;
-        let mut ring = vec![Complex64::default(); np];
-        for j in 0..self.grid.rings.len() {
-            ring.fill(Complex64::default());
-            self.for_each_order(self.grid.rings.theta[j], |m, l0, lambda| {
-                ring[self.bin(m)] = lambda
-                    .iter()
-                    .enumerate()
-                    .map(|(k, &v)| coeffs[lm_index(l0 + k, m)] * v)
-                    .sum();
-            });
-            self.inverse.process(&mut ring);
-            out[j * np..(j + 1) * np].copy_from_slice(&ring);
-        }
-        Ok(())
-    }
-
-    /// Analysis: `a_lm = <sY_lm, f>` by the exact rule; zeros where `l < |s|`.
-    pub fn analysis(&self, values: &[Complex64], out: &mut [Complex64]) -> Result<()> {
-        check_len("grid values", self.grid.len(), values.len())?;
-        check_len("coefficients", num_coeffs(self.lmax), out.len())?;
-        let np = self.grid.n_phi;
+    /// `sY_lm(theta, phi)` for all `l <= lmax` in flat order (zeros where `l < |s|`), into
+    /// `out`; `theta` and `phi` unchecked.
+    pub fn values(&self, theta: f64, phi: f64, out: &mut [Complex64]) {
         out.fill(Complex64::default());
-        let mut ring = vec![Complex64::default(); np];
-        for j in 0..self.grid.rings.len() {
-            ring.copy_from_slice(&values[j * np..(j + 1) * np]);
-            self.forward.process(&mut ring);
-            let w = self.grid.weight(j);
-            self.for_each_order(self.grid.rings.theta[j], |m, l0, lambda| {
-                let g = ring[self.bin(m)] * w;
-                for (k, &v) in lambda.iter().enumerate() {
-                    out[lm_index(l0 + k, m)] += g * v;
-                }
-            });
-        }
-        Ok(())
+        self.for_each_order(theta, |m, l0, lambda| {
+            let (c, s) = crate::sh::harmonics::cis_m(m.unsigned_abs() as usize, phi);
+            let e = Complex64::new(c, m.signum() as f64 * s);
+            for (k, &v) in lambda.iter().enumerate() {
+                out[lm_index(l0 + k, m)] = e * v;
+            }
+        });
     }
 }
 

@@ -13,6 +13,7 @@ mod stokes;
 mod swsh;
 
 use crate::error::Result;
+use crate::polarized::{Codomain, PshVector};
 use serde::Serialize;
 
 /// One check: what it verifies, against what, and how.
@@ -97,4 +98,23 @@ pub fn pseudo_random(n: usize, seed: u64) -> Vec<f64> {
             ((x >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
         })
         .collect()
+}
+
+/// Random coefficients on the index set PSH (31).
+pub fn random_psh(
+    lmax: usize,
+    codomain: Codomain,
+    channels: usize,
+    seed: u64,
+) -> Result<PshVector> {
+    let p = codomain.components().len();
+    let mut data = pseudo_random(channels * crate::sh::num_coeffs(lmax) * p, seed);
+    for (i, x) in data.iter_mut().enumerate() {
+        let lm = (i / p) % crate::sh::num_coeffs(lmax);
+        let comp = codomain.components()[i % p];
+        if lm < 4 && (comp == 1 || comp == 2) {
+            *x = 0.0;
+        }
+    }
+    PshVector::from_data(lmax, codomain, channels, data)
 }

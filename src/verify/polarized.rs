@@ -1,15 +1,12 @@
 //! Checks of the polarized SH (`psh::polarized`).
 
-use super::{pseudo_random, Check};
+use super::{random_psh, Check};
 use crate::error::Result;
 use crate::geometry::frame::ThetaPhiFrameField;
 use crate::polarized::figure10::{off_block_fraction, rotation_coefficient_matrix, LinearBasis};
-use crate::polarized::{Codomain, PshRotation, PshTransform, PshVector};
-use crate::sh::harmonics::{direction_angles, sh_real};
+use crate::polarized::{Codomain, PshRotation, PshTransform};
 use crate::sh::num_coeffs;
 use crate::sh::wigner::rotation_from_rotvec;
-use crate::stokes::{StokesComponents, StokesVector};
-use crate::swsh::swsh;
 use nalgebra::Vector3;
 use num_complex::Complex64;
 
@@ -83,25 +80,6 @@ fn naive_not_block_diagonal() -> Result<f64> {
     Ok(1.0 / off_block_fraction(&m, lmax))
 }
 
-/// Random coefficients on the index set PSH (31).
-pub fn random_psh(
-    lmax: usize,
-    codomain: Codomain,
-    channels: usize,
-    seed: u64,
-) -> Result<PshVector> {
-    let p = codomain.components().len();
-    let mut data = pseudo_random(channels * num_coeffs(lmax) * p, seed);
-    for (i, x) in data.iter_mut().enumerate() {
-        let lm = (i / p) % num_coeffs(lmax);
-        let comp = codomain.components()[i % p];
-        if lm < 4 && (comp == 1 || comp == 2) {
-            *x = 0.0;
-        }
-    }
-    PshVector::from_data(lmax, codomain, channels, data)
-}
-
 fn max_abs(v: &[f64]) -> f64 {
     v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
 }
@@ -124,26 +102,6 @@ fn round_trip() -> Result<f64> {
     Ok(max_abs(&err) / max_abs(v.data()))
 }
 
-/// The Stokes vector of the PSH expansion of channel 0 at direction `w`, in the theta-phi
-/// frame there (PSH (30), evaluated pointwise with the single-direction SH and SWSH).
-fn evaluate(v: &PshVector, w: [f64; 3]) -> Result<StokesVector> {
-    let (t, p) = direction_angles(w)?;
-    let (yr, y2) = (sh_real(v.lmax(), t, p)?, swsh(2, v.lmax(), t, p)?);
-    let mut s = [0.0; 4];
-    let mut z = Complex64::default();
-    for l in 0..=v.lmax() {
-        for m in -(l as i64)..=l as i64 {
-            let i = crate::sh::lm_index(l, m);
-            s[0] += v.get(0, l, m, 0)? * yr[i];
-            s[3] += v.get(0, l, m, 3)? * yr[i];
-            z += Complex64::new(v.get(0, l, m, 1)?, v.get(0, l, m, 2)?) * y2[i];
-        }
-    }
-    (s[1], s[2]) = (z.re, z.im);
-    let frame = crate::geometry::frame::FrameField::frame(&ThetaPhiFrameField::new(), w)?;
-    Ok(StokesVector::new(StokesComponents::new(s)?, frame))
-}
-
 fn rotation_invariance() -> Result<f64> {
     let lmax = 8;
     let r = rotation_from_rotvec([0.9, -0.4, 1.7])?;
@@ -156,7 +114,7 @@ fn rotation_invariance() -> Result<f64> {
         let w = t.grid().direction(i)?;
         // PSH (25): R_F[f](w) = R_S[f(R^-1 w)], read in the theta-phi frame at w.
         let src = r.inverse() * Vector3::from(w);
-        let s = evaluate(&v, [src.x, src.y, src.z])?.rotate(&r)?;
+        let s = v.evaluate(0, [src.x, src.y, src.z])?.rotate(&r)?;
         let expect = s.components_in(&crate::geometry::frame::FrameField::frame(&field, w)?)?;
         for (a, b) in got.iter().zip(expect.to_array()) {
             worst = worst.max((a - b).abs());

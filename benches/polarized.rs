@@ -1,0 +1,54 @@
+//! Criterion benches of polarized SH (ids as in the issue tracker).
+
+use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use psh::geometry::frame::CubeMapFrameField;
+use psh::geometry::image_grid::{CubeCross, PixelGrid};
+use psh::polarized::{project_image, Codomain, PshRotation};
+use psh::sh::wigner::rotation_from_rotvec;
+use psh::verify::{pseudo_random, random_psh};
+
+/// A 64x64x6 Stokes cube map, RGB, four components, to PSH coefficients l < 16.
+fn psh_project(c: &mut Criterion) {
+    let g = CubeCross::new(64).unwrap();
+    let r = pseudo_random(g.len() * 4 * 3, 3);
+    let images: Vec<Vec<[f64; 4]>> = (0..3)
+        .map(|ch| {
+            (0..g.len())
+                .map(|i| {
+                    let k = (ch * g.len() + i) * 4;
+                    // s0 >= |(s1, s2, s3)|: a physical Stokes vector.
+                    [2.0 + r[k], 0.5 * r[k + 1], 0.5 * r[k + 2], 0.2 * r[k + 3]]
+                })
+                .collect()
+        })
+        .collect();
+    let refs: Vec<&[[f64; 4]]> = images.iter().map(|v| v.as_slice()).collect();
+    let mut grp = c.benchmark_group("psh_project");
+    grp.sample_size(10);
+    grp.bench_function("cube64/16", |b| {
+        b.iter(|| {
+            project_image(&g, &CubeMapFrameField, black_box(&refs), Codomain::Full, 15).unwrap()
+        })
+    });
+    grp.finish();
+}
+
+/// Rotate an RGB {s0..s3} coefficient vector of l < 100 (Wigner blocks included).
+fn psh_rotate(c: &mut Criterion) {
+    let v = random_psh(99, Codomain::Full, 3, 4).unwrap();
+    let r = rotation_from_rotvec([0.3, -1.1, 0.7]).unwrap();
+    let mut grp = c.benchmark_group("psh_rotate");
+    grp.sample_size(20);
+    grp.bench_function("vector/100", |b| {
+        b.iter(|| {
+            PshRotation::new(&r, 99)
+                .unwrap()
+                .rotate(black_box(&v))
+                .unwrap()
+        })
+    });
+    grp.finish();
+}
+
+criterion_group!(benches, psh_project, psh_rotate);
+criterion_main!(benches);
