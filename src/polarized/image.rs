@@ -16,7 +16,7 @@ use crate::stokes::{StokesComponents, StokesVector};
 use crate::swsh::transform::SpinEvaluator;
 use num_complex::Complex64;
 
-/// PSH coefficients of `l <= lmax` (`lmax >= 2`) of Stokes images (one slice of texels per
+/// PSH coefficients of `l <= lmax` of Stokes images (one slice of texels per
 /// channel, row-major over `grid`, components `[s0, s1, s2, s3]` in `frames`), for the
 /// components of `codomain`. Texels of zero solid angle (off the cube cross) are ignored;
 /// a NaN or infinite component elsewhere is an error naming the texel.
@@ -44,7 +44,11 @@ pub fn project_image(
             }
         }
     }
-    // Spin 2: a_lm = sum_i Omega_i conj(2Y_lm(w_i)) z_i, z = s1 + i s2 in the theta-phi frame.
+    // Spin 2: a_lm = sum_i Omega_i conj(2Y_lm(w_i)) z_i, z = s1 + i s2 in the theta-phi frame
+    // (nothing below l = 2, PSH (31)).
+    if lmax < 2 {
+        return Ok(out);
+    }
     let eval = SpinEvaluator::new(2, lmax)?;
     let theta_phi = ThetaPhiFrameField::new();
     let n = crate::sh::num_coeffs(lmax);

@@ -264,7 +264,8 @@ impl PshVector {
 /// Projection PSH (32) and reconstruction PSH (30) on the exact grid of band limit `lmax`.
 pub struct PshTransform {
     scalar: ShTransform,
-    spin2: SpinTransform,
+    /// `None` below `lmax = 2`, where PSH (31) has no spin-2 index.
+    spin2: Option<SpinTransform>,
 }
 
 impl std::fmt::Debug for PshTransform {
@@ -276,10 +277,14 @@ impl std::fmt::Debug for PshTransform {
 }
 
 impl PshTransform {
-    /// Transforms for band limit `lmax >= 2` on the smallest exact grid.
+    /// Transforms for band limit `lmax` on the smallest exact grid.
     pub fn new(lmax: usize) -> Result<Self> {
         let scalar = ShTransform::new(lmax)?;
-        let spin2 = SpinTransform::with_grid(2, lmax, scalar.grid().clone())?;
+        let spin2 = if lmax >= 2 {
+            Some(SpinTransform::with_grid(2, lmax, scalar.grid().clone())?)
+        } else {
+            None
+        };
         Ok(Self { scalar, spin2 })
     }
 
@@ -324,10 +329,12 @@ impl PshTransform {
                     out.set_component(c, k, &coeffs);
                 }
             }
-            let z: Vec<Complex64> = field.iter().map(|s| Complex64::new(s[1], s[2])).collect();
-            let mut a = vec![Complex64::default(); n];
-            self.spin2.analysis(&z, &mut a)?;
-            out.set_spin2(c, &a);
+            if let Some(spin2) = &self.spin2 {
+                let z: Vec<Complex64> = field.iter().map(|s| Complex64::new(s[1], s[2])).collect();
+                let mut a = vec![Complex64::default(); n];
+                spin2.analysis(&z, &mut a)?;
+                out.set_spin2(c, &a);
+            }
         }
         Ok(out)
     }
@@ -357,11 +364,13 @@ impl PshTransform {
                 }
             }
         }
-        let mut z = vec![Complex64::default(); npts];
-        self.spin2.synthesis(&v.spin2(c), &mut z)?;
-        for (o, x) in out.iter_mut().zip(z) {
-            o[1] = x.re;
-            o[2] = x.im;
+        if let Some(spin2) = &self.spin2 {
+            let mut z = vec![Complex64::default(); npts];
+            spin2.synthesis(&v.spin2(c), &mut z)?;
+            for (o, x) in out.iter_mut().zip(z) {
+                o[1] = x.re;
+                o[2] = x.im;
+            }
         }
         Ok(out)
     }
