@@ -3,12 +3,11 @@
 //! `SHVec_sponza_1024_L100.npz` once the latter's convention is applied. Skipped, with a
 //! message, when the data is absent.
 //!
-//! What this pins down (see `docs/conventions.md`): the cube-cross layout and face cameras,
-//! the cube-map frame field (x image-right, y image-down, z along the texel's direction),
-//! and polarsh's convention: its coefficient vectors describe the field as a function of
-//! the direction of *travel* `v = -w` of the light (w: the map direction, towards the
-//! source), with Stokes frames whose z is `v`: `[x, -y, -z]` of ours, so `s2` and `s3`
-//! change sign.
+//! What this pins down (see `docs/conventions.md`): the cube-cross layout and face cameras;
+//! the frame of the stored components, `[x, -y, -w]` (x image-right, y image-up, z along
+//! the light's travel, as Mitsuba measures); and polarsh's convention: its coefficient
+//! vectors describe the field as a function of the direction of *travel* `v = -w` of the
+//! light (w: the map direction, towards the source), in the theta-phi frames at `v`.
 
 use psh::geometry::frame::{CubeMapFrameField, Frame, FrameField};
 use psh::geometry::image_grid::{CubeCross, PixelGrid};
@@ -44,7 +43,8 @@ impl PixelGrid for Travel {
     }
 }
 
-/// Frames with z along the travel direction: `[x, -y, -z]` of the cube frame at `-v`.
+/// The frame of the stored components at the travel direction `v`: `[x, -y, -w]` of the
+/// cube frame `[x, y, w]` at `w = -v`.
 struct TravelFrames;
 
 impl FrameField for TravelFrames {
@@ -133,6 +133,52 @@ fn sponza_matches_polarsh_coefficients() {
     // convention is needed, not an artefact of the tolerance.
     let direct = project_image(&g, &CubeMapFrameField, &refs, Codomain::Full, 1).unwrap();
     assert!((direct.get(0, 1, 0, 0).unwrap() + coeff[2 * 4]).abs() < 1e-3 * coeff[2 * 4].abs());
+}
+
+/// The coefficient map from psh's convention (map direction `w`) to polarsh's (travel
+/// direction `v = -w`), applied to psh's own projection, equals psh's projection in the
+/// travel convention (same texels, so to rounding): `f'_lm0 = (-1)^l f_lm0`,
+/// `f'_lm3 = -(-1)^l f_lm3`, `a'_lm = (-1)^{l+m} conj(a_{l,-m})` with `a = f_lm1 + i f_lm2`.
+#[test]
+fn travel_convention_in_coefficient_space() {
+    let Some(dir) = data_dir() else { return };
+    let (g, chans) = read_map(&dir, "sponza_64");
+    let refs: Vec<&[[f64; 4]]> = chans.iter().map(|v| v.as_slice()).collect();
+    let lmax = 6;
+    // The data's components are in the frame [x, -y, -w] (z along the light's travel, as
+    // Mitsuba measures): in the cube-map frame field [x, y, w] they read (s0, s1, -s2, -s3).
+    let flipped: Vec<Vec<[f64; 4]>> = chans
+        .iter()
+        .map(|c| c.iter().map(|s| [s[0], s[1], -s[2], -s[3]]).collect())
+        .collect();
+    let frefs: Vec<&[[f64; 4]]> = flipped.iter().map(|v| v.as_slice()).collect();
+    let ours = project_image(&g, &CubeMapFrameField, &frefs, Codomain::Full, lmax).unwrap();
+    let travel = project_image(
+        &Travel(g.clone()),
+        &TravelFrames,
+        &refs,
+        Codomain::Full,
+        lmax,
+    )
+    .unwrap();
+    let mut worst = 0.0f64;
+    for c in 0..3 {
+        for l in 0..=lmax {
+            let sl = if l % 2 == 0 { 1.0 } else { -1.0 };
+            for m in -(l as i64)..=l as i64 {
+                let slm = if (l as i64 + m) % 2 == 0 { 1.0 } else { -1.0 };
+                let e0 = sl * ours.get(c, l, m, 0).unwrap();
+                let e3 = -sl * ours.get(c, l, m, 3).unwrap();
+                let e1 = slm * ours.get(c, l, -m, 1).unwrap();
+                let e2 = -slm * ours.get(c, l, -m, 2).unwrap();
+                for (p, e) in [(0, e0), (1, e1), (2, e2), (3, e3)] {
+                    worst = worst.max((travel.get(c, l, m, p).unwrap() - e).abs());
+                }
+            }
+        }
+    }
+    println!("coefficient-space convention map: max deviation {worst:.2e}");
+    assert!(worst < 1e-12, "{worst}");
 }
 
 #[test]
