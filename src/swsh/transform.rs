@@ -45,6 +45,8 @@ pub struct SpinEvaluator {
     spin: i64,
     lmax: usize,
     columns: Vec<Column>,
+    /// `(-1)^s sqrt((2l+1)/(4 pi))` for `l <= lmax`.
+    norms: Vec<f64>,
 }
 
 /// A planned spin-`s` transform pair for band limit `lmax`.
@@ -170,6 +172,12 @@ impl SpinEvaluator {
             spin,
             lmax,
             columns,
+            norms: (0..=lmax)
+                .map(|l| {
+                    let parity = if spin % 2 == 0 { 1.0 } else { -1.0 };
+                    parity * ((2 * l + 1) as f64 / (4.0 * PI)).sqrt()
+                })
+                .collect(),
         })
     }
 
@@ -180,11 +188,10 @@ impl SpinEvaluator {
 
     /// Walks the orders at polar angle `theta` (in `[0, pi]`, unchecked): `f(m, l0, lambda)`
     /// with `lambda[l - l0] = Lambda_lm(theta)`, `l0 = max(|m|, |s|)`.
-    pub fn for_each_order(&self, theta: f64, mut f: impl FnMut(i64, usize, &[f64])) {
+    pub(crate) fn for_each_order(&self, theta: f64, mut f: impl FnMut(i64, usize, &[f64])) {
         let (sh, ch) = (0.5 * theta).sin_cos();
         let (log_c, log_s) = (ch.log2(), sh.log2());
         let u = 2.0 * sh * sh;
-        let parity = if self.spin % 2 == 0 { 1.0 } else { -1.0 };
         let mut buf = vec![0.0; self.lmax + 1];
         for (i, col) in self.columns.iter().enumerate() {
             let m = i as i64 - self.lmax as i64;
@@ -210,8 +217,8 @@ impl SpinEvaluator {
             };
             p1 *= col.sign;
             let mut p2 = 0.0;
-            let norm = |l: usize| parity * ((2 * l + 1) as f64 / (4.0 * PI)).sqrt();
-            out[0] = norm(col.l0) * descale(p1, exp);
+            let norm = &self.norms[col.l0..];
+            out[0] = norm[0] * descale(p1, exp);
             for (k, &[a, b, c]) in col.coeffs.iter().enumerate() {
                 let p = a * ((c - u) * p1 - b * p2);
                 p2 = p1;
@@ -221,15 +228,18 @@ impl SpinEvaluator {
                     p2 *= SMALL;
                     exp += SCALE_BITS;
                 }
-                out[k + 1] = norm(col.l0 + k + 1) * descale(p1, exp);
+                out[k + 1] = norm[k + 1] * descale(p1, exp);
             }
             f(m, col.l0, out);
         }
     }
 
     /// `sY_lm(theta, phi)` for all `l <= lmax` in flat order (zeros where `l < |s|`), into
-    /// `out`; `theta` and `phi` unchecked.
-    pub fn values(&self, theta: f64, phi: f64, out: &mut [Complex64]) {
+    /// `out` of length `(lmax+1)^2`: `O(lmax^2)`, against `O(lmax^3)` for [`crate::swsh::swsh`].
+    pub fn values(&self, theta: f64, phi: f64, out: &mut [Complex64]) -> Result<()> {
+        crate::sh::check_theta(theta)?;
+        crate::error::finite("phi", phi)?;
+        check_len("spin SH output", num_coeffs(self.lmax), out.len())?;
         out.fill(Complex64::default());
         self.for_each_order(theta, |m, l0, lambda| {
             let (c, s) = crate::sh::harmonics::cis_m(m.unsigned_abs() as usize, phi);
@@ -238,6 +248,7 @@ impl SpinEvaluator {
                 out[lm_index(l0 + k, m)] = e * v;
             }
         });
+        Ok(())
     }
 }
 
@@ -351,6 +362,26 @@ mod tests {
                 assert!((x - y).norm() < 1e-13, "spin {spin} lmax {lmax}");
             }
         }
+    }
+
+    #[test]
+    fn evaluator_matches_risbo_and_rejects_bad_input() {
+        let ev = SpinEvaluator::new(2, 20).unwrap();
+        let mut out = vec![Complex64::default(); num_coeffs(20)];
+        for (t, p) in [
+            (0.0, 0.3),
+            (1e-9, 1.0),
+            (1.2, -2.0),
+            (std::f64::consts::PI, 0.5),
+        ] {
+            ev.values(t, p, &mut out).unwrap();
+            for (a, b) in out.iter().zip(swsh(2, 20, t, p).unwrap()) {
+                assert!((a - b).norm() < 1e-13, "theta {t}");
+            }
+        }
+        assert!(ev.values(f64::NAN, 0.0, &mut out).is_err());
+        assert!(ev.values(0.1, f64::INFINITY, &mut out).is_err());
+        assert!(ev.values(0.1, 0.0, &mut out[..5]).is_err());
     }
 
     #[test]
