@@ -11,6 +11,8 @@ pub use error::{Error, Result};
 #[cfg(feature = "exact")]
 pub mod exact;
 pub mod geometry;
+pub mod io;
+pub mod map;
 pub mod polarized;
 pub mod sh;
 pub mod stokes;

@@ -11,6 +11,9 @@
 
 use psh::geometry::frame::{CubeMapFrameField, Frame, FrameField};
 use psh::geometry::image_grid::{CubeCross, PixelGrid};
+use psh::io::exr::read_stokes_map;
+use psh::io::npz::read_psh_npz;
+use psh::map::{MapLayout, StokesMap};
 use psh::polarized::{project_image, Codomain};
 use std::path::PathBuf;
 
@@ -55,34 +58,24 @@ impl FrameField for TravelFrames {
     }
 }
 
-/// The RGB Stokes images `[channel][texel] = [s0, s1, s2, s3]` and the cube layout.
-fn read_map(dir: &std::path::Path, name: &str) -> (CubeCross, Vec<Vec<[f64; 4]>>) {
-    let mut chans: Vec<Vec<[f64; 4]>> = Vec::new();
-    let mut grid = None;
-    for p in 0..4 {
-        let path = dir.join(format!("{name}_s{p}.exr"));
-        let img = exr::prelude::read_first_flat_layer_from_file(&path)
-            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        let layer = &img.layer_data;
-        let (h, w) = (layer.size.height(), layer.size.width());
-        let g = CubeCross::from_image_size(h, w).unwrap();
-        if chans.is_empty() {
-            chans = vec![vec![[0.0; 4]; h * w]; 3];
-        }
-        for ch in &layer.channel_data.list {
-            let c = match ch.name.to_string().as_str() {
-                "R" => 0,
-                "G" => 1,
-                "B" => 2,
-                _ => continue,
-            };
-            for (i, v) in ch.sample_data.values_as_f32().enumerate() {
-                chans[c][i][p] = v as f64;
-            }
-        }
-        grid = Some(g);
+/// The map read with `psh::io` (components in psh's cube-map frame field) and its RGB
+/// channels as stored in the files (Mitsuba's frames `[x, -y, -w]`).
+fn read_map(dir: &std::path::Path, name: &str) -> (StokesMap, Vec<Vec<[f64; 4]>>) {
+    let pattern = dir.join(format!("{name}_s%d.exr"));
+    let map = read_stokes_map(pattern.to_str().unwrap()).unwrap();
+    let stored = map
+        .channels()
+        .iter()
+        .map(|c| c.iter().map(|s| [s[0], s[1], -s[2], -s[3]]).collect())
+        .collect();
+    (map, stored)
+}
+
+fn cube(map: &StokesMap) -> CubeCross {
+    match map.layout() {
+        MapLayout::CubeCross(g) => g.clone(),
+        other => panic!("not a cube cross: {other:?}"),
     }
-    (grid.expect("four components read"), chans)
 }
 
 /// The PSH coefficients of `chans` in polarsh's convention (travel directions, the stored
@@ -103,25 +96,16 @@ fn project_travel(
     .unwrap()
 }
 
+/// End to end through `psh::io`: the EXR map projected (psh's convention) against the
+/// polarsh file read with `read_psh_npz` (which applies the travel convention).
 #[test]
 fn sponza_matches_polarsh_coefficients() {
     let Some(dir) = data_dir() else { return };
-    let (g, chans) = read_map(&dir, "sponza_64");
-    let refs: Vec<&[[f64; 4]]> = chans.iter().map(|v| v.as_slice()).collect();
+    let (map, stored) = read_map(&dir, "sponza_64");
     let lmax = 8;
-    let ours = project_travel(&g, &chans, lmax);
-    let mut npz = npyz::npz::NpzArchive::open(dir.join("SHVec_sponza_1024_L100.npz")).unwrap();
-    let cod: String = npz
-        .by_name("cod_type")
-        .unwrap()
-        .unwrap()
-        .into_vec()
-        .unwrap()
-        .remove(0);
-    assert_eq!(cod, "POLAR4");
-    let coeff: Vec<f64> = npz.by_name("coeff").unwrap().unwrap().into_vec().unwrap();
-    assert_eq!(coeff.len(), 3 * 10000 * 4);
-    let n = (lmax + 1) * (lmax + 1);
+    let ours = map.project(Codomain::Full, lmax).unwrap();
+    let theirs = read_psh_npz(dir.join("SHVec_sponza_1024_L100.npz")).unwrap();
+    assert_eq!((theirs.lmax(), theirs.channels()), (99, 3));
     // Relative L2 difference per Stokes component over l <= 8 and RGB. The two maps differ
     // in resolution (64 vs 1024 texels per face edge): the 64-texel midpoint rule and the
     // map's own down-sampling bound the agreement. Measured: s0 5e-4, s1 3e-4, s2 6e-3
@@ -129,21 +113,27 @@ fn sponza_matches_polarsh_coefficients() {
     for (p, tol) in [(0usize, 2e-3), (1, 2e-3), (2, 3e-2)] {
         let (mut num, mut den) = (0.0, 0.0);
         for c in 0..3 {
-            for i in 0..n {
-                let a = ours.data()[(c * n + i) * 4 + p];
-                let b = coeff[(c * 10000 + i) * 4 + p];
-                num += (a - b).powi(2);
-                den += b * b;
+            for l in 0..=lmax {
+                for m in -(l as i64)..=l as i64 {
+                    let a = ours.get(c, l, m, p).unwrap();
+                    let b = theirs.get(c, l, m, p).unwrap();
+                    num += (a - b).powi(2);
+                    den += b * b;
+                }
             }
         }
         let rel = (num / den).sqrt();
         println!("s{p}: relative difference {rel:.2e}");
         assert!(rel < tol, "s{p}: {rel}");
     }
-    // Without the travel-direction convention the odd degrees of s0 change sign: the
-    // convention is needed, not an artefact of the tolerance.
-    let direct = project_image(&g, &CubeMapFrameField, &refs, Codomain::Full, 1).unwrap();
-    assert!((direct.get(0, 1, 0, 0).unwrap() + coeff[2 * 4]).abs() < 1e-3 * coeff[2 * 4].abs());
+    // Without the travel-direction convention (the file's raw coefficients) the odd
+    // degrees of s0 change sign: the convention is needed, not an artefact of the
+    // tolerance.
+    let raw = theirs.travel_convention();
+    let refs: Vec<&[[f64; 4]]> = stored.iter().map(|v| v.as_slice()).collect();
+    let direct = project_image(&cube(&map), &CubeMapFrameField, &refs, Codomain::Full, 1).unwrap();
+    let f10 = raw.get(0, 1, 0, 0).unwrap();
+    assert!((direct.get(0, 1, 0, 0).unwrap() + f10).abs() < 1e-3 * f10.abs());
 }
 
 /// The coefficient map from psh's convention (map direction `w`) to polarsh's (travel
@@ -153,17 +143,11 @@ fn sponza_matches_polarsh_coefficients() {
 #[test]
 fn travel_convention_in_coefficient_space() {
     let Some(dir) = data_dir() else { return };
-    let (g, chans) = read_map(&dir, "sponza_64");
+    let (map, stored) = read_map(&dir, "sponza_64");
     let lmax = 6;
-    // The data's components are in the frame [x, -y, -w] (z along the light's travel, as
-    // Mitsuba measures): in the cube-map frame field [x, y, w] they read (s0, s1, -s2, -s3).
-    let flipped: Vec<Vec<[f64; 4]>> = chans
-        .iter()
-        .map(|c| c.iter().map(|s| [s[0], s[1], -s[2], -s[3]]).collect())
-        .collect();
-    let frefs: Vec<&[[f64; 4]]> = flipped.iter().map(|v| v.as_slice()).collect();
-    let ours = project_image(&g, &CubeMapFrameField, &frefs, Codomain::Full, lmax).unwrap();
-    let travel = project_travel(&g, &chans, lmax);
+    let ours = map.project(Codomain::Full, lmax).unwrap();
+    let travel = project_travel(&cube(&map), &stored, lmax);
+    let lib = ours.travel_convention();
     let mut worst = 0.0f64;
     for c in 0..3 {
         for l in 0..=lmax {
@@ -175,7 +159,9 @@ fn travel_convention_in_coefficient_space() {
                 let e1 = slm * ours.get(c, l, -m, 1).unwrap();
                 let e2 = -slm * ours.get(c, l, -m, 2).unwrap();
                 for (p, e) in [(0, e0), (1, e1), (2, e2), (3, e3)] {
-                    worst = worst.max((travel.get(c, l, m, p).unwrap() - e).abs());
+                    let t = travel.get(c, l, m, p).unwrap();
+                    worst = worst.max((t - e).abs());
+                    worst = worst.max((t - lib.get(c, l, m, p).unwrap()).abs());
                 }
             }
         }
@@ -187,9 +173,8 @@ fn travel_convention_in_coefficient_space() {
 #[test]
 fn cathedral_projects() {
     let Some(dir) = data_dir() else { return };
-    let (g, chans) = read_map(&dir, "cathedral_64");
-    let refs: Vec<&[[f64; 4]]> = chans.iter().map(|v| v.as_slice()).collect();
-    let v = project_image(&g, &CubeMapFrameField, &refs, Codomain::Full, 16).unwrap();
+    let (map, _) = read_map(&dir, "cathedral_64");
+    let v = map.project(Codomain::Full, 16).unwrap();
     assert!(v.data().iter().all(|x| x.is_finite()));
     assert!(
         v.get(0, 0, 0, 0).unwrap() > 0.0,

@@ -1,12 +1,16 @@
-//! The `psh` command line: `verify`, `eval`.
+//! The `psh` command line: `verify`, `eval`, and the environment-map pipeline
+//! `project`, `rotate`, `reconstruct`.
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use num_complex::Complex64;
+use psh::map::{MapLayout, StokesMap};
+use psh::polarized::{Codomain, PshRotation};
 use psh::sh::harmonics::{sh_complex, sh_real};
 use psh::sh::wigner::{for_each_block, real_block, rotation_from_rotvec};
 use psh::sh::MAX_DEGREE;
 use psh::Error;
 use serde_json::json;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -34,6 +38,56 @@ enum Command {
     /// Evaluate basis functions or rotation matrices, printing JSON.
     #[command(subcommand)]
     Eval(Eval),
+    /// Project a polarized environment map (EXR, one file per Stokes component) to PSH
+    /// coefficients, written as a polarsh-compatible .npz.
+    Project(ProjectArgs),
+    /// Rotate a PSH coefficient vector (.npz) in the frequency domain (PSH (35)-(37)).
+    Rotate(RotateArgs),
+    /// Reconstruct a PSH coefficient vector (.npz) on an image: EXR per Stokes component
+    /// and PNG pictures (s0..s3, degree and angle of polarization).
+    Reconstruct(ReconstructArgs),
+}
+
+#[derive(Args)]
+struct ProjectArgs {
+    /// The component files: a pattern with %d (map_s%d.exr) or one of them (map_s0.exr).
+    input: String,
+    /// Band limit: coefficients of degrees l <= lmax.
+    #[arg(long)]
+    lmax: usize,
+    /// Stokes components to keep: POLAR2 (s1, s2), POLAR3 (s0..s2) or POLAR4 (s0..s3).
+    #[arg(long, default_value = "POLAR4")]
+    codomain: String,
+    /// Output .npz.
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+#[derive(Args)]
+struct RotateArgs {
+    /// Input .npz.
+    input: PathBuf,
+    /// Rotation vector X,Y,Z: axis times angle in radians (active rotation, PSH (8)).
+    #[arg(long, allow_hyphen_values = true)]
+    rotvec: String,
+    /// Output .npz.
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+#[derive(Args)]
+struct ReconstructArgs {
+    /// Input .npz.
+    input: PathBuf,
+    /// Equirectangular image of H rows and W = 2H columns.
+    #[arg(long, conflicts_with = "cube", required_unless_present = "cube")]
+    equirect: Option<String>,
+    /// Cube cross of faces of E x E texels (3E x 4E image).
+    #[arg(long)]
+    cube: Option<usize>,
+    /// Output prefix: writes {prefix}_s0..s3.exr and {prefix}_{s0,s1,s2,s3,dop,aop}.png.
+    #[arg(short, long)]
+    output: String,
 }
 
 #[derive(Subcommand)]
@@ -131,6 +185,9 @@ fn main() -> ExitCode {
         Command::Eval(Eval::Sh(a)) => eval_sh(&a),
         Command::Eval(Eval::Wigner(a)) => eval_wigner(&a),
         Command::Eval(Eval::Swsh(a)) => eval_swsh(&a),
+        Command::Project(a) => project(&a),
+        Command::Rotate(a) => rotate(&a),
+        Command::Reconstruct(a) => reconstruct(&a),
     };
     match result {
         Ok(v) => {
@@ -212,10 +269,11 @@ fn eval_swsh(args: &SwshArgs) -> psh::Result<serde_json::Value> {
     Ok(json!({"lmax": a.lmax, "spin": args.spin, "theta": a.theta, "phi": a.phi, "values": values}))
 }
 
-fn eval_wigner(a: &WignerArgs) -> psh::Result<serde_json::Value> {
-    let parts: Vec<&str> = a.rotvec.split(',').collect();
+/// A rotation vector `X,Y,Z`.
+fn parse_rotvec(text: &str) -> psh::Result<[f64; 3]> {
+    let parts: Vec<&str> = text.split(',').collect();
     let bad = |reason: &str| Error::InvalidRotation {
-        value: a.rotvec.clone(),
+        value: text.to_string(),
         reason: reason.into(),
     };
     if parts.len() != 3 {
@@ -225,6 +283,60 @@ fn eval_wigner(a: &WignerArgs) -> psh::Result<serde_json::Value> {
     for (c, p) in v.iter_mut().zip(&parts) {
         *c = p.trim().parse().map_err(|_| bad("not a number"))?;
     }
+    Ok(v)
+}
+
+fn project(a: &ProjectArgs) -> psh::Result<serde_json::Value> {
+    let codomain = Codomain::from_name(&a.codomain)?;
+    psh::sh::check_lmax(a.lmax)?;
+    let map = psh::io::exr::read_stokes_map(&a.input)?;
+    let v = map.project(codomain, a.lmax)?;
+    psh::io::npz::write_psh_npz(&a.output, &v)?;
+    Ok(json!({
+        "input": a.input, "layout": [map.layout().height(), map.layout().width()],
+        "channels": v.channels(), "lmax": v.lmax(), "codomain": codomain.name(),
+        "output": a.output,
+    }))
+}
+
+fn rotate(a: &RotateArgs) -> psh::Result<serde_json::Value> {
+    let v = psh::io::npz::read_psh_npz(&a.input)?;
+    let rotvec = parse_rotvec(&a.rotvec)?;
+    let r = rotation_from_rotvec(rotvec)?;
+    let rotated = PshRotation::new(&r, v.lmax())?.rotate(&v)?;
+    psh::io::npz::write_psh_npz(&a.output, &rotated)?;
+    Ok(json!({"input": a.input, "rotvec": rotvec, "lmax": v.lmax(), "output": a.output}))
+}
+
+fn reconstruct(a: &ReconstructArgs) -> psh::Result<serde_json::Value> {
+    let layout = match (&a.equirect, a.cube) {
+        (Some(size), _) => {
+            let bad = || Error::InvalidArgument {
+                name: "--equirect",
+                value: size.clone(),
+                reason: "expected H,W with W = 2H (rows, columns)".into(),
+            };
+            let hw: Vec<usize> = size
+                .split(',')
+                .map(|x| x.trim().parse().map_err(|_| bad()))
+                .collect::<psh::Result<_>>()?;
+            match hw[..] {
+                [h, w] if h > 0 && w == 2 * h => MapLayout::from_image_size(h, w)?,
+                _ => return Err(bad()),
+            }
+        }
+        (None, Some(e)) => MapLayout::CubeCross(psh::geometry::image_grid::CubeCross::new(e)?),
+        (None, None) => unreachable!("clap requires --equirect or --cube"),
+    };
+    let v = psh::io::npz::read_psh_npz(&a.input)?;
+    let map = StokesMap::reconstruct(&v, layout)?;
+    let mut written = psh::io::exr::write_stokes_map(&map, &format!("{}_s%d.exr", a.output))?;
+    written.extend(psh::io::png::write_map_pngs(&map, &a.output)?);
+    Ok(json!({"input": a.input, "lmax": v.lmax(), "written": written}))
+}
+
+fn eval_wigner(a: &WignerArgs) -> psh::Result<serde_json::Value> {
+    let v = parse_rotvec(&a.rotvec)?;
     if a.lmax > MAX_WIGNER_EVAL_DEGREE.min(MAX_DEGREE) {
         return Err(Error::DegreeOutOfRange {
             name: "lmax",

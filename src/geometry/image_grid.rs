@@ -41,6 +41,12 @@ pub trait PixelGrid {
     fn direction(&self, i: usize) -> [f64; 3];
     /// Exact solid angle of texel `i`.
     fn solid_angle(&self, i: usize) -> f64;
+    /// Spherical angles `(theta, phi)` of texel `i`'s centre (by default from its
+    /// direction; grids of constant-theta rows give the row's exact angle, so that
+    /// texels of one row share it bit for bit). Error: a texel without a direction.
+    fn angles(&self, i: usize) -> Result<(f64, f64)> {
+        crate::sh::harmonics::direction_angles(self.direction(i))
+    }
 }
 
 /// Faces of the cube cross.
@@ -192,6 +198,15 @@ impl Equirect {
         }
         Ok(Self { height, width })
     }
+
+    /// `(theta, phi)` of the centre of texel `i`.
+    fn cell_centre(&self, i: usize) -> (f64, f64) {
+        let (row, col) = (i / self.width, i % self.width);
+        (
+            PI * (row as f64 + 0.5) / self.height as f64,
+            2.0 * PI * (col as f64 + 0.5) / self.width as f64,
+        )
+    }
 }
 
 impl PixelGrid for Equirect {
@@ -200,10 +215,12 @@ impl PixelGrid for Equirect {
     }
 
     fn direction(&self, i: usize) -> [f64; 3] {
-        let (row, col) = (i / self.width, i % self.width);
-        let theta = PI * (row as f64 + 0.5) / self.height as f64;
-        let phi = 2.0 * PI * (col as f64 + 0.5) / self.width as f64;
+        let (theta, phi) = self.cell_centre(i);
         crate::sh::harmonics::direction(theta, phi)
+    }
+
+    fn angles(&self, i: usize) -> Result<(f64, f64)> {
+        Ok(self.cell_centre(i))
     }
 
     fn solid_angle(&self, i: usize) -> f64 {

@@ -16,9 +16,11 @@
 pub mod figure10;
 mod image;
 mod rotation;
+mod synthesis;
 
 pub use image::project_image;
 pub use rotation::PshRotation;
+pub use synthesis::reconstruct_image;
 
 use crate::error::{check_len, Error, Result};
 use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
@@ -220,6 +222,40 @@ impl PshVector {
         ))
     }
 
+    /// The same light field indexed by the direction of travel `v = -w` instead of the
+    /// direction `w` towards its source, in the theta-phi frames at `v` (polarsh's
+    /// convention, `docs/conventions.md`): `f'_lm0 = (-1)^l f_lm0`,
+    /// `f'_lm3 = -(-1)^l f_lm3`, `a'_lm = (-1)^{l+m} conj(a_{l,-m})` for
+    /// `a = f_lm1 + i f_lm2` (derived in `proofs/travel-convention.md`). An involution.
+    pub fn travel_convention(&self) -> PshVector {
+        let mut out = self.clone();
+        let comps = self.codomain.components();
+        for c in 0..self.channels {
+            for (k, &p) in comps.iter().enumerate() {
+                if p == 0 || p == 3 {
+                    let f = self.component(c, k);
+                    let sign3 = if p == 3 { -1.0 } else { 1.0 };
+                    let g: Vec<f64> = (0..f.len())
+                        .map(|i| {
+                            let (l, _) = crate::sh::lm_of_index(i);
+                            sign3 * parity(l as i64) * f[i]
+                        })
+                        .collect();
+                    out.set_component(c, k, &g);
+                }
+            }
+            let a = self.spin2(c);
+            let b: Vec<Complex64> = (0..a.len())
+                .map(|i| {
+                    let (l, m) = crate::sh::lm_of_index(i);
+                    parity(l as i64 + m) * a[lm_index(l, -m)].conj()
+                })
+                .collect();
+            out.set_spin2(c, &b);
+        }
+        out
+    }
+
     /// Component `p` of channel `c` as a flat SH vector (`l*l + l + m`).
     fn component(&self, c: usize, k: usize) -> Vec<f64> {
         (0..num_coeffs(self.lmax))
@@ -258,6 +294,15 @@ impl PshVector {
         let im: Vec<f64> = z.iter().map(|v| v.im).collect();
         self.set_component(c, k1, &re);
         self.set_component(c, k1 + 1, &im);
+    }
+}
+
+/// `(-1)^n`.
+fn parity(n: i64) -> f64 {
+    if n % 2 == 0 {
+        1.0
+    } else {
+        -1.0
     }
 }
 
@@ -396,6 +441,30 @@ mod tests {
         assert_eq!(v.get(1, 3, -3, 0).unwrap(), 0.0);
         assert!(v.get(2, 1, 0, 1).is_err());
         assert!(v.get(0, 1, 2, 1).is_err());
+    }
+
+    /// The travel convention against its definition: at `u`, in the theta-phi frame
+    /// there, the field is the original one at `w = -u` read in `[e_theta, -e_phi, -w]`
+    /// of the theta-phi frame at `w`, i.e. `(s0, s1, -s2, -s3)`; and it is an involution.
+    #[test]
+    fn travel_convention_reverses_directions() {
+        let v = crate::verify::random_psh(6, Codomain::Full, 2, 3).unwrap();
+        let t = v.travel_convention();
+        let back = t.travel_convention();
+        assert_eq!(back.data(), v.data());
+        for (i, u) in [[0.0, 0.0, 1.0], [0.6, 0.0, -0.8], [0.48, -0.6, 0.64]]
+            .into_iter()
+            .enumerate()
+        {
+            let c = i % 2;
+            let got = t.evaluate(c, u).unwrap().components().to_array();
+            let w = u.map(|x| -x);
+            let s = v.evaluate(c, w).unwrap().components().to_array();
+            let want = [s[0], s[1], -s[2], -s[3]];
+            for p in 0..4 {
+                assert!((got[p] - want[p]).abs() < 1e-13, "{u:?} s{p}");
+            }
+        }
     }
 
     #[test]

@@ -44,7 +44,69 @@ pub fn checks() -> Vec<Check> {
             proof: Some("proofs/psh-rotation.md"),
             run: naive_not_block_diagonal,
         },
+        Check {
+            id: "polarized.travel_convention",
+            source: "PSH (28)-(30)",
+            description: "coefficient-space map to the travel-direction convention (polarsh's): the mapped vector at u equals (s0, s1, -s2, -s3) of the original at -u, 64 directions incl. both poles, L = 12 (relative)",
+            tolerance: 1e-13,
+            proof: Some("proofs/travel-convention.md"),
+            run: travel_convention,
+        },
+        Check {
+            id: "polarized.image_reconstruction",
+            source: "PSH (30)",
+            description: "reconstruction on an equirectangular image (rows grouped by theta) vs single-direction evaluation, cube-map frames converted, L = 24 (relative)",
+            tolerance: 1e-12,
+            proof: None,
+            run: image_reconstruction,
+        },
     ]
+}
+
+fn travel_convention() -> Result<f64> {
+    let lmax = 12;
+    let v = random_psh(lmax, Codomain::Full, 1, 47)?;
+    let t = v.travel_convention();
+    let mut dirs = vec![[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]];
+    let angles = super::pseudo_random(124, 53);
+    for a in angles.chunks(2) {
+        let (theta, phi) = (
+            0.5 * std::f64::consts::PI * (a[0] + 1.0),
+            std::f64::consts::PI * a[1],
+        );
+        dirs.push(crate::sh::harmonics::direction(theta, phi));
+    }
+    let (mut worst, mut scale) = (0.0f64, 0.0f64);
+    for u in dirs {
+        let got = t.evaluate(0, u)?.components().to_array();
+        let s = v.evaluate(0, u.map(|x| -x))?.components().to_array();
+        for (a, b) in got.iter().zip([s[0], s[1], -s[2], -s[3]]) {
+            worst = worst.max((a - b).abs());
+            scale = scale.max(b.abs());
+        }
+    }
+    Ok(worst / scale)
+}
+
+fn image_reconstruction() -> Result<f64> {
+    use crate::geometry::frame::{CubeMapFrameField, FrameField};
+    use crate::geometry::image_grid::{Equirect, PixelGrid};
+    let lmax = 24;
+    let v = random_psh(lmax, Codomain::Full, 1, 59)?;
+    let grid = Equirect::new(16, 32)?;
+    let img = crate::polarized::reconstruct_image(&v, &grid, &CubeMapFrameField)?;
+    let (mut worst, mut scale) = (0.0f64, 0.0f64);
+    for (i, got) in img[0].iter().enumerate() {
+        let w = grid.direction(i);
+        let want = v
+            .evaluate(0, w)?
+            .components_in(&CubeMapFrameField.frame(w)?)?;
+        for (a, b) in got.iter().zip(want.to_array()) {
+            worst = worst.max((a - b).abs());
+            scale = scale.max(b.abs());
+        }
+    }
+    Ok(worst / scale)
 }
 
 fn fig10_rotation() -> Result<nalgebra::Rotation3<f64>> {

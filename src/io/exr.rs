@@ -1,0 +1,254 @@
+//! Polarized maps as OpenEXR: one file per Stokes component (`name_s%d.exr`), channels
+//! `R, G, B` (or a single channel), a cube cross (`3e x 4e`) or an equirectangular image
+//! (`H x 2H`); components in the stored frames of [`crate::io`].
+
+use super::{component_paths, io_error, malformed, reverse_frame};
+use crate::error::Result;
+use crate::map::{MapLayout, StokesMap};
+use ::exr::prelude::*;
+use std::path::{Path, PathBuf};
+
+/// The names of `n` channels as written: `R, G, B` for three, `Y` for one, `C0, C1, ...`
+/// otherwise.
+fn channel_names(n: usize) -> Vec<String> {
+    match n {
+        1 => vec!["Y".into()],
+        3 => vec!["R".into(), "G".into(), "B".into()],
+        _ => (0..n).map(|c| format!("C{c}")).collect(),
+    }
+}
+
+/// A component file's `(rows, columns)` and its named channels.
+type Component = ((usize, usize), Vec<(String, Vec<f64>)>);
+
+/// One component file: its size and its channels, in the order `R, G, B` when those are
+/// its channels, else in the file's (alphabetical) order.
+fn read_component(path: &Path) -> Result<Component> {
+    if !path.exists() {
+        return Err(io_error(
+            path,
+            std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                "missing Stokes component file",
+            ),
+        ));
+    }
+    let image =
+        read_first_flat_layer_from_file(path).map_err(|e| malformed(path, e.to_string()))?;
+    let layer = image.layer_data;
+    let size = (layer.size.height(), layer.size.width());
+    let mut chans: Vec<(String, Vec<f64>)> = layer
+        .channel_data
+        .list
+        .iter()
+        .map(|c| {
+            (
+                c.name.to_string(),
+                c.sample_data.values_as_f32().map(f64::from).collect(),
+            )
+        })
+        .collect();
+    let rank = |n: &str| ["R", "G", "B"].iter().position(|&x| x == n);
+    if chans.len() == 3 && chans.iter().all(|(n, _)| rank(n).is_some()) {
+        chans.sort_by_key(|(n, _)| rank(n));
+    }
+    Ok((size, chans))
+}
+
+/// Reads the four component files of a map (`pattern` as in
+/// [`super::component_paths`]). Errors name the file and the reason: a missing component,
+/// an unreadable file, sizes or channels that differ between the files, a shape that is
+/// neither a cube cross nor equirectangular, a NaN or infinite texel.
+pub fn read_stokes_map(pattern: &str) -> Result<StokesMap> {
+    let paths = component_paths(pattern)?;
+    let mut first: Option<((usize, usize), Vec<String>)> = None;
+    let mut channels: Vec<Vec<[f64; 4]>> = Vec::new();
+    let mut layout = None;
+    for (p, path) in paths.iter().enumerate() {
+        let (size, chans) = read_component(path)?;
+        let names: Vec<String> = chans.iter().map(|(n, _)| n.clone()).collect();
+        match &first {
+            None => {
+                let l = MapLayout::from_image_size(size.0, size.1)
+                    .map_err(|e| malformed(path, e.to_string()))?;
+                channels = vec![vec![[0.0; 4]; size.0 * size.1]; chans.len()];
+                layout = Some(l);
+                first = Some((size, names));
+            }
+            Some((s0, n0)) => {
+                if *s0 != size {
+                    return Err(malformed(
+                        path,
+                        format!(
+                            "size {} x {} differs from s0's {} x {}",
+                            size.0, size.1, s0.0, s0.1
+                        ),
+                    ));
+                }
+                if *n0 != names {
+                    return Err(malformed(
+                        path,
+                        format!("channels {names:?} differ from s0's {n0:?}"),
+                    ));
+                }
+            }
+        }
+        for (c, (_, values)) in chans.iter().enumerate() {
+            for (texel, &x) in channels[c].iter_mut().zip(values) {
+                texel[p] = x;
+            }
+        }
+    }
+    let layout = layout.expect("four components read");
+    let channels = channels
+        .into_iter()
+        .map(|ch| ch.into_iter().map(reverse_frame).collect())
+        .collect();
+    StokesMap::new(layout, channels).map_err(|e| malformed(&paths[0], e.to_string()))
+}
+
+/// Writes a map as four component files (`pattern` with `%d`, or one component's file
+/// name), 32-bit float, lossless; returns the paths written.
+pub fn write_stokes_map(map: &StokesMap, pattern: &str) -> Result<Vec<PathBuf>> {
+    let paths = component_paths(pattern)?;
+    let (h, w) = (map.layout().height(), map.layout().width());
+    let names = channel_names(map.channels().len());
+    for (p, path) in paths.iter().enumerate() {
+        let list: SmallVec<[AnyChannel<FlatSamples>; 4]> = map
+            .channels()
+            .iter()
+            .zip(&names)
+            .map(|(ch, name)| {
+                let values = ch.iter().map(|s| reverse_frame(*s)[p] as f32).collect();
+                AnyChannel::new(name.as_str(), FlatSamples::F32(values))
+            })
+            .collect();
+        let layer = Layer::new(
+            Vec2(w, h),
+            LayerAttributes::named(format!("s{p}").as_str()),
+            Encoding::FAST_LOSSLESS,
+            AnyChannels::sort(list),
+        );
+        Image::from_layer(layer)
+            .write()
+            .to_file(path)
+            .map_err(|e| match e {
+                ::exr::error::Error::Io(io) => io_error(path, io),
+                other => malformed(path, other.to_string()),
+            })?;
+    }
+    Ok(paths.to_vec())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::polarized::Codomain;
+
+    fn tmp(name: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("psh-exr-{}-{name}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    /// Write then read: the same map (to f32 rounding), in both layouts and for 1 and 3
+    /// channels, the frame convention undone on reading.
+    #[test]
+    fn round_trip() {
+        let dir = tmp("rt");
+        for (size, nch) in [((24, 32), 3), ((8, 16), 1)] {
+            let layout = MapLayout::from_image_size(size.0, size.1).unwrap();
+            let v = crate::verify::random_psh(3, Codomain::Full, nch, 7).unwrap();
+            let map = StokesMap::reconstruct(&v, layout).unwrap();
+            let pattern = dir.join("m_s%d.exr");
+            let pattern = pattern.to_str().unwrap();
+            write_stokes_map(&map, pattern).unwrap();
+            let back = read_stokes_map(pattern).unwrap();
+            assert_eq!(back.layout(), map.layout());
+            for (a, b) in map
+                .channels()
+                .iter()
+                .flatten()
+                .zip(back.channels().iter().flatten())
+            {
+                for p in 0..4 {
+                    assert!((a[p] - b[p]).abs() <= 1e-6 * (1.0 + a[p].abs()));
+                }
+            }
+        }
+    }
+
+    /// Bad files: a missing component, sizes that differ, a shape that is no map, a NaN
+    /// texel, a file that is not EXR; each error names the file.
+    #[test]
+    fn bad_files_are_errors_naming_the_file() {
+        let dir = tmp("bad");
+        let layout = MapLayout::from_image_size(12, 16).unwrap();
+        let v = crate::verify::random_psh(2, Codomain::Full, 3, 9).unwrap();
+        let map = StokesMap::reconstruct(&v, layout).unwrap();
+        let pat = |n: &str| {
+            dir.join(format!("{n}_s%d.exr"))
+                .to_str()
+                .unwrap()
+                .to_string()
+        };
+        let expect = |pattern: &str, file: &str, what: &str| {
+            let e = read_stokes_map(pattern).unwrap_err().to_string();
+            assert!(e.contains(file) && e.contains(what), "{e}");
+        };
+        write_stokes_map(&map, &pat("missing")).unwrap();
+        std::fs::remove_file(dir.join("missing_s3.exr")).unwrap();
+        expect(&pat("missing"), "missing_s3.exr", "missing");
+
+        write_stokes_map(&map, &pat("size")).unwrap();
+        let small = StokesMap::reconstruct(&v, MapLayout::from_image_size(6, 12).unwrap()).unwrap();
+        let other = write_stokes_map(&small, &pat("small")).unwrap();
+        std::fs::copy(&other[2], dir.join("size_s2.exr")).unwrap();
+        expect(&pat("size"), "size_s2.exr", "differs");
+
+        let mut odd = write_stokes_map(&map, &pat("odd")).unwrap();
+        std::fs::write(odd.remove(1), b"not an exr file").unwrap();
+        expect(&pat("odd"), "odd_s1.exr", "malformed");
+
+        let mut nan = map.channels().to_vec();
+        nan[2][20][0] = f64::NAN;
+        // Built directly: `StokesMap::new` refuses NaN, so write the raw channel.
+        let raw = StokesMap::reconstruct(&v, MapLayout::from_image_size(12, 16).unwrap()).unwrap();
+        let paths = write_stokes_map(&raw, &pat("nan")).unwrap();
+        let list: SmallVec<[AnyChannel<FlatSamples>; 4]> = ["B", "G", "R"]
+            .iter()
+            .map(|&n| {
+                let c = ["R", "G", "B"].iter().position(|&x| x == n).unwrap();
+                AnyChannel::new(
+                    n,
+                    FlatSamples::F32(nan[c].iter().map(|s| s[0] as f32).collect()),
+                )
+            })
+            .collect();
+        Image::from_layer(Layer::new(
+            Vec2(16, 12),
+            LayerAttributes::default(),
+            Encoding::FAST_LOSSLESS,
+            AnyChannels::sort(list),
+        ))
+        .write()
+        .to_file(&paths[0])
+        .unwrap();
+        expect(&pat("nan"), "nan_s0.exr", "finite");
+
+        let list: SmallVec<[AnyChannel<FlatSamples>; 4]> =
+            std::iter::once(AnyChannel::new("Y", FlatSamples::F32(vec![0.0; 10 * 12]))).collect();
+        for p in 0..4 {
+            Image::from_layer(Layer::new(
+                Vec2(12, 10),
+                LayerAttributes::default(),
+                Encoding::FAST_LOSSLESS,
+                AnyChannels::sort(list.clone()),
+            ))
+            .write()
+            .to_file(dir.join(format!("shape_s{p}.exr")))
+            .unwrap();
+        }
+        expect(&pat("shape"), "shape_s0.exr", "10 x 12");
+    }
+}

@@ -1,0 +1,84 @@
+//! Files: polarized maps as EXR (one file per Stokes component) and as PNG pictures,
+//! PSH coefficient vectors as polarsh-compatible `.npz`.
+//!
+//! **Stored frames.** Map files store each texel's components as Mitsuba 3 measures them
+//! (the convention of the shared data, `docs/conventions.md`): in the frame `[x, -y, -w]`
+//! of psh's frame field `[x, y, w]` of the layout ([`crate::map::MapFrameField`]), z along
+//! the light's direction of travel. In psh's frames they read `(s0, s1, -s2, -s3)`
+//! (PSH (14) with the reversed axes, `proofs/travel-convention.md` step 1); reading and
+//! writing apply that map. Coefficient files follow polarsh's travel-direction
+//! convention ([`crate::polarized::PshVector::travel_convention`]).
+
+pub mod exr;
+pub mod npz;
+pub mod png;
+
+use crate::error::{Error, Result};
+use std::path::{Path, PathBuf};
+
+/// Components `[s0, s1, s2, s3]` in a frame `[x, y, z]` read in `[x, -y, -z]` (and back).
+pub(crate) fn reverse_frame(s: [f64; 4]) -> [f64; 4] {
+    [s[0], s[1], -s[2], -s[3]]
+}
+
+/// The files of the four Stokes components of a map: `pattern` with `%d` replaced by
+/// 0..3 (`sponza_64_s%d.exr`), or, given one component's file (`sponza_64_s0.exr`), the
+/// four files that differ from it in the digit after the last `_s`.
+pub fn component_paths(pattern: &str) -> Result<[PathBuf; 4]> {
+    let bad = |reason: &str| Error::InvalidArgument {
+        name: "Stokes file pattern",
+        value: pattern.to_string(),
+        reason: reason.into(),
+    };
+    let template = if pattern.contains("%d") {
+        if pattern.matches("%d").count() != 1 {
+            return Err(bad("exactly one %d (the Stokes component) is allowed"));
+        }
+        pattern.to_string()
+    } else {
+        let name = Path::new(pattern)
+            .file_name()
+            .and_then(|n| n.to_str())
+            .ok_or_else(|| bad("no file name"))?;
+        let at = name
+            .rfind("_s")
+            .filter(|&k| matches!(name.as_bytes().get(k + 2), Some(b'0'..=b'3')))
+            .ok_or_else(|| bad("expected a %d pattern or a file name with _s0.._s3"))?;
+        let dir_len = pattern.len() - name.len();
+        let k = dir_len + at + 2;
+        format!("{}%d{}", &pattern[..k], &pattern[k + 1..])
+    };
+    Ok([0, 1, 2, 3].map(|p| PathBuf::from(template.replace("%d", &p.to_string()))))
+}
+
+/// An I/O error on `path`.
+pub(crate) fn io_error(path: &Path, source: std::io::Error) -> Error {
+    Error::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// A malformed file: `path` and the reason.
+pub(crate) fn malformed(path: &Path, reason: impl Into<String>) -> Error {
+    Error::MalformedFile {
+        path: path.to_path_buf(),
+        reason: reason.into(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn component_paths_from_patterns_and_files() {
+        let want = |d: &str| [0, 1, 2, 3].map(|p| PathBuf::from(format!("{d}sponza_64_s{p}.exr")));
+        assert_eq!(component_paths("a/sponza_64_s%d.exr").unwrap(), want("a/"));
+        assert_eq!(component_paths("a/sponza_64_s2.exr").unwrap(), want("a/"));
+        assert_eq!(component_paths("sponza_64_s0.exr").unwrap(), want(""));
+        for bad in ["a/b.exr", "x_%d_%d.exr", "m_s7.exr"] {
+            assert!(component_paths(bad).is_err(), "{bad}");
+        }
+    }
+}

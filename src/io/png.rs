@@ -1,0 +1,236 @@
+//! Pictures of polarized maps (8-bit sRGB PNG) that a person can read: `s0` tone-mapped,
+//! `s1`, `s2`, `s3` in a signed diverging colormap, the degree and the angle of
+//! polarization; and heat maps of matrices (PSH Fig. 10). Components are shown in the
+//! stored frames of [`crate::io`], like the EXR files written beside them.
+//!
+//! - `s0`: each channel times `1 / q99`, `q99` the 99th percentile of the luminance
+//!   `Y = 0.2126 R + 0.7152 G + 0.0722 B` (Rec. 709), clipped to `[0, 1]`, sRGB-encoded.
+//! - `s1..s3` (luminance): `s / q`, `q` the largest of their 99th percentiles of `|s|`
+//!   (one scale for the three, so they compare), clipped to `[-1, 1]`, in Moreland's
+//!   cool-warm map (blue negative, grey zero, red positive).
+//! - degree of polarization `sqrt(s1^2 + s2^2 + s3^2) / s0` in `[0, 1]` as grey levels;
+//!   angle of polarization `chi = atan2(s2, s1) / 2` as hue (red at `chi = -90` degrees
+//!   through the colour circle to `+90`), brightness the degree of polarization.
+//!
+//! Texels off a cube cross are black.
+
+use super::{io_error, malformed, reverse_frame};
+use crate::error::{Error, Result};
+use crate::geometry::image_grid::PixelGrid;
+use crate::map::StokesMap;
+use std::path::{Path, PathBuf};
+
+/// Writes an 8-bit RGB image (`rgb` row-major, `width * height` pixels).
+pub fn write_png(
+    path: impl AsRef<Path>,
+    width: usize,
+    height: usize,
+    rgb: &[[u8; 3]],
+) -> Result<()> {
+    let path = path.as_ref();
+    crate::error::check_len("PNG pixels", width * height, rgb.len())?;
+    let file = std::fs::File::create(path).map_err(|e| io_error(path, e))?;
+    let mut enc = ::png::Encoder::new(std::io::BufWriter::new(file), width as u32, height as u32);
+    enc.set_color(::png::ColorType::Rgb);
+    enc.set_depth(::png::BitDepth::Eight);
+    let bytes: Vec<u8> = rgb.iter().flatten().copied().collect();
+    enc.write_header()
+        .and_then(|mut w| w.write_image_data(&bytes))
+        .map_err(|e| match e {
+            ::png::EncodingError::IoError(io) => io_error(path, io),
+            other => malformed(path, other.to_string()),
+        })
+}
+
+/// sRGB encoding of a linear value in `[0, 1]`, to 8 bits.
+fn srgb8(x: f64) -> u8 {
+    let x = x.clamp(0.0, 1.0);
+    let v = if x <= 0.003_130_8 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    };
+    (v * 255.0).round() as u8
+}
+
+/// Moreland's cool-warm diverging map at `t` in `[-1, 1]` (sRGB, piecewise linear
+/// through its end points and mid grey).
+pub fn diverging(t: f64) -> [u8; 3] {
+    const NEG: [f64; 3] = [0.230, 0.299, 0.754];
+    const MID: [f64; 3] = [0.865, 0.865, 0.865];
+    const POS: [f64; 3] = [0.706, 0.016, 0.150];
+    let t = t.clamp(-1.0, 1.0);
+    let (end, a) = if t < 0.0 { (NEG, -t) } else { (POS, t) };
+    [0, 1, 2].map(|k| ((MID[k] + a * (end[k] - MID[k])) * 255.0).round() as u8)
+}
+
+/// Fully saturated colour of hue `h` in `[0, 1)` at brightness `v` in `[0, 1]`.
+fn hue(h: f64, v: f64) -> [u8; 3] {
+    let v = v.clamp(0.0, 1.0);
+    let k = |n: f64| {
+        let x = (n + 6.0 * h).rem_euclid(6.0);
+        v * (1.0 - (x.min(4.0 - x).clamp(0.0, 1.0)))
+    };
+    [k(5.0), k(3.0), k(1.0)].map(|c| (c * 255.0).round() as u8)
+}
+
+/// The `q`-quantile of `|x|` over `values` (1 when all are zero).
+fn quantile_abs(values: &[f64], q: f64) -> f64 {
+    let mut a: Vec<f64> = values.iter().map(|x| x.abs()).collect();
+    if a.is_empty() {
+        return 1.0;
+    }
+    let k = ((a.len() - 1) as f64 * q).round() as usize;
+    let (_, v, _) = a.select_nth_unstable_by(k, f64::total_cmp);
+    if *v > 0.0 {
+        *v
+    } else {
+        1.0
+    }
+}
+
+/// Luminance of one texel's channel values.
+fn luminance(values: &[f64]) -> f64 {
+    match values.len() {
+        3 => 0.2126 * values[0] + 0.7152 * values[1] + 0.0722 * values[2],
+        n => values.iter().sum::<f64>() / n as f64,
+    }
+}
+
+/// Writes `{prefix}_s0.png`, `_s1`, `_s2`, `_s3`, `_dop` and `_aop` for `map`; returns
+/// the paths.
+pub fn write_map_pngs(map: &StokesMap, prefix: &str) -> Result<Vec<PathBuf>> {
+    let layout = map.layout();
+    let (w, h) = (layout.width(), layout.height());
+    let on: Vec<bool> = (0..layout.len())
+        .map(|i| layout.solid_angle(i) > 0.0)
+        .collect();
+    // Stored-frame components per channel, and the luminance Stokes vector per texel.
+    let stored: Vec<Vec<[f64; 4]>> = map
+        .channels()
+        .iter()
+        .map(|ch| ch.iter().map(|s| reverse_frame(*s)).collect())
+        .collect();
+    let lum: Vec<[f64; 4]> = (0..layout.len())
+        .map(|i| {
+            [0, 1, 2, 3].map(|p| luminance(&stored.iter().map(|c| c[i][p]).collect::<Vec<_>>()))
+        })
+        .collect();
+    let on_values = |p: usize| -> Vec<f64> {
+        (0..lum.len())
+            .filter(|&i| on[i])
+            .map(|i| lum[i][p])
+            .collect()
+    };
+    let mut out = Vec::new();
+    let mut save = |name: &str, pixel: &dyn Fn(usize) -> [u8; 3]| -> Result<()> {
+        let path = PathBuf::from(format!("{prefix}_{name}.png"));
+        let rgb: Vec<[u8; 3]> = (0..layout.len())
+            .map(|i| if on[i] { pixel(i) } else { [0; 3] })
+            .collect();
+        write_png(&path, w, h, &rgb)?;
+        out.push(path);
+        Ok(())
+    };
+
+    let exposure = 1.0 / quantile_abs(&on_values(0), 0.99);
+    save("s0", &|i| match stored.len() {
+        3 => [0, 1, 2].map(|c| srgb8(exposure * stored[c][i][0])),
+        _ => [srgb8(exposure * lum[i][0]); 3],
+    })?;
+    let scale = (1..4)
+        .map(|p| quantile_abs(&on_values(p), 0.99))
+        .fold(0.0f64, f64::max);
+    for p in 1..4 {
+        save(&format!("s{p}"), &|i| diverging(lum[i][p] / scale))?;
+    }
+    let dop = |i: usize| {
+        let s = lum[i];
+        if s[0] > 0.0 {
+            ((s[1] * s[1] + s[2] * s[2] + s[3] * s[3]).sqrt() / s[0]).min(1.0)
+        } else {
+            0.0
+        }
+    };
+    save("dop", &|i| [srgb8(dop(i)); 3])?;
+    save("aop", &|i| {
+        let chi = 0.5 * lum[i][2].atan2(lum[i][1]);
+        hue(chi / std::f64::consts::PI + 0.5, dop(i))
+    })?;
+    Ok(out)
+}
+
+/// Writes a heat map of `|a_ij|` for an `n x n` row-major matrix, `cell` pixels per
+/// entry, white for 0 to black for `max |a|` (as PSH Fig. 10 shows its matrices), with
+/// grey lines between the blocks of degrees `l` when `block_lines` (flat `l*l + l + m`).
+pub fn write_matrix_png(
+    path: impl AsRef<Path>,
+    abs: &[f64],
+    n: usize,
+    cell: usize,
+    block_lines: bool,
+) -> Result<()> {
+    crate::error::check_len("matrix", n * n, abs.len())?;
+    if cell == 0 {
+        return Err(Error::InvalidArgument {
+            name: "cell",
+            value: "0".into(),
+            reason: "a matrix entry needs at least one pixel".into(),
+        });
+    }
+    let max = abs.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let max = if max > 0.0 { max } else { 1.0 };
+    let size = n * cell;
+    let starts: Vec<usize> = (0..).map(|l: usize| l * l).take_while(|&s| s < n).collect();
+    let rgb: Vec<[u8; 3]> = (0..size * size)
+        .map(|k| {
+            let (y, x) = (k / size, k % size);
+            let on_line = |c: usize| c % cell == 0 && starts.contains(&(c / cell)) && c > 0;
+            if block_lines && (on_line(x) || on_line(y)) {
+                return [160, 160, 160];
+            }
+            let v = 1.0 - abs[(y / cell) * n + x / cell].abs() / max;
+            [srgb8(v); 3]
+        })
+        .collect();
+    write_png(path, size, size, &rgb)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::map::MapLayout;
+    use crate::polarized::Codomain;
+
+    #[test]
+    fn colormaps() {
+        assert_eq!(diverging(0.0), [221, 221, 221]);
+        assert_eq!(diverging(-1.0), [59, 76, 192]);
+        assert_eq!(diverging(1.0), [180, 4, 38]);
+        assert_eq!(diverging(7.0), diverging(1.0));
+        assert_eq!(hue(0.0, 1.0), [255, 0, 0]);
+        assert_eq!(hue(1.0 / 3.0, 1.0), [0, 255, 0]);
+        assert_eq!(hue(2.0 / 3.0, 0.5), [0, 0, 128]);
+        assert_eq!(srgb8(0.5), 188);
+        assert_eq!(quantile_abs(&[0.0, -4.0, 1.0, 2.0, 3.0], 1.0), 4.0);
+    }
+
+    /// The six pictures of a map are written with the map's size and read back as PNG.
+    #[test]
+    fn map_pictures() {
+        let dir = std::env::temp_dir().join(format!("psh-png-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let v = crate::verify::random_psh(3, Codomain::Full, 3, 5).unwrap();
+        let map = StokesMap::reconstruct(&v, MapLayout::from_image_size(24, 32).unwrap()).unwrap();
+        let prefix = dir.join("m");
+        let paths = write_map_pngs(&map, prefix.to_str().unwrap()).unwrap();
+        assert_eq!(paths.len(), 6);
+        for p in &paths {
+            let dec = ::png::Decoder::new(std::fs::File::open(p).unwrap());
+            let info = dec.read_info().unwrap().info().clone();
+            assert_eq!((info.width, info.height), (32, 24), "{}", p.display());
+        }
+        let e = write_png(dir.join("no/such/dir.png"), 1, 1, &[[0; 3]]).unwrap_err();
+        assert!(e.to_string().contains("dir.png"), "{e}");
+    }
+}
