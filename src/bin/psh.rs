@@ -211,12 +211,12 @@ fn verify(json: bool, filter: Option<&str>) -> ExitCode {
         );
     } else {
         println!(
-            "{:<28} {:<16} {:>10} {:>10}  result",
+            "{:<36} {:<16} {:>10} {:>10}  result",
             "check", "source", "max error", "tolerance"
         );
         for r in &results {
             println!(
-                "{:<28} {:<16} {:>10.2e} {:>10.0e}  {}",
+                "{:<36} {:<16} {:>10.2e} {:>10.0e}  {}",
                 r.id,
                 r.source,
                 r.max_error,

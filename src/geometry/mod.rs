@@ -2,3 +2,4 @@
 
 pub mod frame;
 pub mod image_grid;
+pub mod rotated;
