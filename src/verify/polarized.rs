@@ -68,7 +68,50 @@ pub fn checks() -> Vec<Check> {
             proof: Some("proofs/psh-rotation.md"),
             run: rotation_invariance_image,
         },
+        Check {
+            id: "polarized.orthonormality",
+            source: "PSH (29), (31)",
+            description: "Gram matrix of the PSH basis Y_lmp (full Stokes, index set PSH (31)) under the inner product PSH (18), exact-grid quadrature, l <= 8: max |G - I|",
+            tolerance: 1e-13,
+            proof: None,
+            run: orthonormality,
+        },
     ]
+}
+
+fn orthonormality() -> Result<f64> {
+    let lmax = 8;
+    let t = PshTransform::new(lmax)?;
+    let n = num_coeffs(lmax);
+    // Every basis function of the index set, reconstructed on the exact grid.
+    let mut basis = Vec::new();
+    for i in 0..n {
+        let (l, _) = crate::sh::lm_of_index(i);
+        for p in 0..4 {
+            if (p == 1 || p == 2) && l < 2 {
+                continue;
+            }
+            let mut data = vec![0.0; n * 4];
+            data[i * 4 + p] = 1.0;
+            let v = crate::polarized::PshVector::from_data(lmax, Codomain::Full, 1, data)?;
+            basis.push(t.reconstruct(&v, 0)?);
+        }
+    }
+    let grid = t.grid();
+    let mut worst = 0.0f64;
+    for (a, fa) in basis.iter().enumerate() {
+        for (b, fb) in basis.iter().enumerate().skip(a) {
+            let g: f64 = (0..grid.len())
+                .map(|i| {
+                    let dot: f64 = fa[i].iter().zip(&fb[i]).map(|(x, y)| x * y).sum();
+                    grid.point_weight(i) * dot
+                })
+                .sum();
+            let want = if a == b { 1.0 } else { 0.0 };
+            worst = worst.max((g - want).abs());
+        }
+    }
+    Ok(worst)
 }
 
 fn rotation_invariance_image() -> Result<f64> {
