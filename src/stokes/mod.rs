@@ -33,9 +33,11 @@
 mod components;
 mod field;
 mod mueller;
+mod mueller_field;
 mod vector;
 
 pub use components::StokesComponents;
 pub use field::convert_between_fields;
 pub use mueller::{rotator, MuellerMatrix, MuellerTransform};
+pub use mueller_field::MuellerField;
 pub use vector::{Spin2StokesVector, StokesVector};
