@@ -387,14 +387,7 @@ impl Legendre {
                     }
                 }
                 if scaled {
-                    for j in 0..N {
-                        if exp[j] < 0 && p1[j].abs() >= 1.0 {
-                            p1[j] *= SMALL;
-                            p2[j] *= SMALL;
-                            exp[j] += SCALE_BITS;
-                        }
-                    }
-                    scaled = exp.iter().any(|&e| e < 0);
+                    scaled = rescale_lanes(&mut p1, &mut p2, &mut exp);
                     (fe, fo) = lane_factors(&exp, &sign);
                 }
                 k = end;
@@ -411,13 +404,38 @@ pub const LANE_BLOCK: usize = 16;
 /// `2^(605 - 1200)`, negligible against band maxima of order one) for even and odd `l - m`, the odd ones with the mirror sign.
 #[inline]
 fn lane_factors<const N: usize>(exp: &[i32; N], sign: &[f64; N]) -> ([f64; N], [f64; N]) {
-    let fe: [f64; N] = std::array::from_fn(|j| match exp[j] {
+    let fe = lane_scale(exp);
+    let fo = std::array::from_fn(|j| fe[j] * sign[j]);
+    (fe, fo)
+}
+
+/// Brings lanes whose recursion has climbed back to `|p1| >= 1` one scale step up
+/// (`p * 2^-SCALE_BITS`, `exp + SCALE_BITS`); returns whether any lane is still scaled.
+#[inline]
+pub(crate) fn rescale_lanes<const N: usize>(
+    p1: &mut [f64; N],
+    p2: &mut [f64; N],
+    exp: &mut [i32; N],
+) -> bool {
+    for j in 0..N {
+        if exp[j] < 0 && p1[j].abs() >= 1.0 {
+            p1[j] *= SMALL;
+            p2[j] *= SMALL;
+            exp[j] += SCALE_BITS;
+        }
+    }
+    exp.iter().any(|&e| e < 0)
+}
+
+/// Output factors `2^exp` of lanes: 1, `2^-SCALE_BITS`, or zero below (values there are
+/// under `2^(-SCALE_BITS)`, negligible against band maxima of order one).
+#[inline]
+pub(crate) fn lane_scale<const N: usize>(exp: &[i32; N]) -> [f64; N] {
+    std::array::from_fn(|j| match exp[j] {
         0 => 1.0,
         e if e == -SCALE_BITS => SMALL,
         _ => 0.0,
-    });
-    let fo = std::array::from_fn(|j| fe[j] * sign[j]);
-    (fe, fo)
+    })
 }
 
 /// `p * 2^exp` for `exp` a non-positive multiple of `SCALE_BITS` and `|p| <= 2^SCALE_BITS`,

@@ -360,39 +360,51 @@ fn accumulate_lanes(
 }
 
 /// Coefficients regrouped by order: for each `m` in `-lmax..=lmax`, the values at
-/// `l = |m|..=lmax`, contiguous (the Legendre sums run along `l`).
-struct MMajor {
+/// `l = l0(m)..=lmax`, contiguous (the Legendre and spin recursions run along `l`).
+pub(crate) struct OrderMajor {
     lmax: usize,
     data: Vec<Complex64>,
     offsets: Vec<usize>,
 }
 
-impl MMajor {
-    fn column(&self, m: i64) -> &[Complex64] {
+impl OrderMajor {
+    /// `f(l, m)` for every order and `l = l0(m)..=lmax`.
+    pub(crate) fn new(
+        lmax: usize,
+        l0: impl Fn(i64) -> usize,
+        f: impl Fn(usize, i64) -> Complex64,
+    ) -> Self {
+        let li = lmax as i64;
+        let mut data = Vec::with_capacity(num_coeffs(lmax));
+        let mut offsets = Vec::with_capacity(2 * lmax + 2);
+        for m in -li..=li {
+            offsets.push(data.len());
+            data.extend((l0(m)..=lmax).map(|l| f(l, m)));
+        }
+        offsets.push(data.len());
+        Self {
+            lmax,
+            data,
+            offsets,
+        }
+    }
+
+    /// The values of order `m`.
+    pub(crate) fn column(&self, m: i64) -> &[Complex64] {
         let i = (m + self.lmax as i64) as usize;
         &self.data[self.offsets[i]..self.offsets[i + 1]]
     }
 
-    fn column_mut(&mut self, m: i64) -> &mut [Complex64] {
+    /// The values of order `m`, mutable.
+    pub(crate) fn column_mut(&mut self, m: i64) -> &mut [Complex64] {
         let i = (m + self.lmax as i64) as usize;
         &mut self.data[self.offsets[i]..self.offsets[i + 1]]
     }
 }
 
-fn pack_m_major(lmax: usize, f: impl Fn(usize, i64) -> Complex64) -> MMajor {
-    let li = lmax as i64;
-    let mut data = Vec::with_capacity(num_coeffs(lmax));
-    let mut offsets = Vec::with_capacity(2 * lmax + 2);
-    for m in -li..=li {
-        offsets.push(data.len());
-        data.extend((m.unsigned_abs() as usize..=lmax).map(|l| f(l, m)));
-    }
-    offsets.push(data.len());
-    MMajor {
-        lmax,
-        data,
-        offsets,
-    }
+/// [`OrderMajor`] of scalar SH, `l0(m) = |m|`.
+fn pack_m_major(lmax: usize, f: impl Fn(usize, i64) -> Complex64) -> OrderMajor {
+    OrderMajor::new(lmax, |m| m.unsigned_abs() as usize, f)
 }
 
 #[cfg(test)]

@@ -2,39 +2,90 @@
 //! `a_lm = <sY_lm, f>` (PSH (32) for one spin component), with
 //! `sY_lm = Lambda_lm(theta) e^{i m phi}`, `Lambda_lm = (-1)^s sqrt((2l+1)/(4 pi)) d^l_{m,-s}`.
 //!
-//! Per ring, `Lambda_lm` for `l = l0..=lmax` (`l0 = max(|m|, |s|)`) comes from the
+//! Per polar angle, `Lambda_lm` for `l = l0..=lmax` (`l0 = max(|m|, |s|)`) comes from the
 //! three-term recursion of the Wigner d in `l` at fixed `(m, m')`, in the `u = 1 - cos theta`
 //! form of [`crate::sh::legendre`] (derived in `proofs/swsh.md`):
 //!
 //! `d^l = A_l ((c_l - u) d^{l-1} - B_l d^{l-2})`, `A_l = l (2l-1) / sqrt((l^2-m^2)(l^2-m'^2))`,
 //! `B_l = sqrt(((l-1)^2-m^2)((l-1)^2-m'^2)) / ((l-1)(2l-1))`, `c_l = 1 - m m' / (l (l-1))`,
 //!
-//! started from the one-term closed form of `d^{l0}` (half-angle powers times a square root
-//! of a binomial), evaluated through its logarithm with the exponent scaling of the Legendre
-//! recursion so that nothing overflows or underflows. The grid is the one of
-//! [`crate::sh::grid`]: `d^l_{m,-s} d^l'_{m,-s}` is a polynomial of degree `l + l'` in
-//! `cos theta`, so `lmax + 1` rings integrate the analysis exactly.
+//! run on `Lambda` directly (the norms folded into `A_l`, `B_l`). The start `d^{l0}` has a
+//! one-term closed form (half-angle powers times a square root of a binomial): for the
+//! `2|s| + 1` orders `|m| <= |s|` it is evaluated through its logarithm, for `|m| > |s|` it
+//! follows from the start of order `m -+ 1` by one factor (the diagonal step of
+//! `proofs/swsh.md`). Starts and recursions carry the exponent scaling of the Legendre
+//! recursion, so that nothing overflows or underflows, and run on many polar angles at
+//! once in lock step (lanes), as [`crate::sh::legendre::Legendre::for_each_column_lanes`].
+//!
+//! The grid is the one of [`crate::sh::grid`]: `d^l_{m,-s} d^l'_{m,-s}` is a polynomial of
+//! degree `l + l'` in `cos theta`, so `lmax + 1` rings integrate the analysis exactly. Its
+//! rings come in mirror pairs `theta, pi - theta`, on which
+//! `Lambda_lm(pi - theta) = (-1)^{l+s} Lambda_{l,-m}(theta)` (`proofs/swsh.md`): the column
+//! of order `m` at a northern ring serves order `-m` at its southern mirror.
 
 use crate::error::{check_len, Error, Result};
 use crate::sh::grid::SphereGrid;
-use crate::sh::legendre::{descale, BIG, SCALE_BITS, SMALL};
+use crate::sh::legendre::{lane_scale, rescale_lanes, BIG, LANE_BLOCK, SCALE_BITS, SMALL};
+use crate::sh::transform::OrderMajor;
 use crate::sh::{lm_index, num_coeffs};
 use num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
 use std::f64::consts::PI;
 use std::sync::Arc;
 
+/// `cos(theta/2)`, `sin(theta/2)` of a polar angle in `[0, pi]`: the variables of the start
+/// and of `u = 2 sin^2(theta/2)`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct HalfAngle {
+    cos: f64,
+    sin: f64,
+}
+
+impl HalfAngle {
+    /// From the polar angle.
+    pub(crate) fn from_theta(theta: f64) -> Self {
+        let (sin, cos) = (0.5 * theta).sin_cos();
+        Self { cos, sin }
+    }
+
+    /// From `z = cos theta` and `rho = sin theta >= 0` of a unit direction:
+    /// `cos^2(theta/2) = (1 + z)/2`, `sin^2(theta/2) = (1 - z)/2`, the smaller of the two
+    /// from `sin theta = 2 sin(theta/2) cos(theta/2)` (no cancellation near the poles).
+    pub(crate) fn from_z_rho(z: f64, rho: f64) -> Self {
+        if z >= 0.0 {
+            let cos = (0.5 * (1.0 + z)).sqrt();
+            Self {
+                cos,
+                sin: 0.5 * rho / cos,
+            }
+        } else {
+            let sin = (0.5 * (1.0 - z)).sqrt();
+            Self {
+                cos: 0.5 * rho / sin,
+                sin,
+            }
+        }
+    }
+}
+
+/// How the recursion of one order starts.
 #[derive(Debug)]
-/// Recursion data of one order `m`: its start degree, the start's `log2` magnitude parts
-/// and sign, and `[A_l, B_l, c_l]` for `l = l0 + 1..=lmax`.
+enum Start {
+    /// `Lambda_{l0,m} = sign 2^log cos^a(theta/2) sin^b(theta/2)` (`log` holds the norm and
+    /// `0.5 log2 binom(2 l0, k)`; for the `(-sin)` powers of case (a) the sign applies to
+    /// odd `b` only).
+    Seed { log: f64, a: i32, b: i32, sign: f64 },
+    /// `Lambda_{|m|,m} = g sin(theta)/2 Lambda_{|m|-1,m-+1}`: the diagonal step.
+    Diagonal(f64),
+}
+
+/// Recursion data of one order `m`: its start degree and start, and `[A_l, B_l, c_l]`
+/// (norms folded in) for `l = l0 + 1..=lmax`.
+#[derive(Debug)]
 struct Column {
+    m: i64,
     l0: usize,
-    /// `0.5 log2 binom(2 l0, k)`; the start is `sign * 2^log_binom * cos^a(theta/2) sin^b(theta/2)`.
-    log_binom: f64,
-    a: i32,
-    b: i32,
-    /// Sign of the start; for the `(-sin)` powers of case (a) it applies to odd `b` only.
-    sign: f64,
+    start: Start,
     coeffs: Vec<[f64; 3]>,
 }
 
@@ -44,9 +95,8 @@ struct Column {
 pub struct SpinEvaluator {
     spin: i64,
     lmax: usize,
+    /// In walk order: `m = -|s|..=|s|` (seeds), then `-(|s|+1), |s|+1, -(|s|+2), ...`.
     columns: Vec<Column>,
-    /// `(-1)^s sqrt((2l+1)/(4 pi))` for `l <= lmax`.
-    norms: Vec<f64>,
 }
 
 /// A planned spin-`s` transform pair for band limit `lmax`.
@@ -65,6 +115,14 @@ impl std::fmt::Debug for SpinTransform {
             .finish()
     }
 }
+
+/// Ring pairs per lane block of the spin recursion.
+const RINGS: usize = 16;
+
+/// A block of ring pairs: the half angles of their northern rings, padded to `RINGS` lanes,
+/// and the `(north, south)` ring indices of the lanes in use (`north == south` for the
+/// equator ring of an odd rule).
+type RingBlock = ([HalfAngle; RINGS], Vec<(usize, usize)>);
 
 impl SpinTransform {
     /// Spin-`s` transform for band limit `lmax` on the smallest exact grid.
@@ -105,25 +163,69 @@ impl SpinTransform {
         m.rem_euclid(self.grid.n_phi as i64) as usize
     }
 
+    /// Mirror ring pairs in blocks of `RINGS` lanes; a short last block repeats its last
+    /// ring in the unused lanes (their results are dropped).
+    fn ring_blocks(&self) -> Vec<RingBlock> {
+        let r = &self.grid.rings;
+        let n = r.len();
+        let pairs: Vec<(usize, usize)> = (0..n.div_ceil(2)).map(|j| (j, n - 1 - j)).collect();
+        pairs
+            .chunks(RINGS)
+            .map(|c| {
+                let half = std::array::from_fn(|j| {
+                    HalfAngle::from_theta(r.theta[c[j.min(c.len() - 1)].0])
+                });
+                (half, c.to_vec())
+            })
+            .collect()
+    }
+
+    /// `(-1)^{l+s}`, the mirror sign.
+    fn mirror_sign(&self, l: usize) -> f64 {
+        if (l as i64 + self.eval.spin) % 2 == 0 {
+            1.0
+        } else {
+            -1.0
+        }
+    }
+
     /// Synthesis: `f(theta_j, phi_k) = sum_{l >= |s|, m} a_lm sY_lm` onto the grid; entries
     /// of `coeffs` with `l < |s|` are ignored.
     pub fn synthesis(&self, coeffs: &[Complex64], out: &mut [Complex64]) -> Result<()> {
         check_len("coefficients", num_coeffs(self.eval.lmax), coeffs.len())?;
         check_len("grid values", self.grid.len(), out.len())?;
         let np = self.grid.n_phi;
-        let mut ring = vec![Complex64::default(); np];
-        for j in 0..self.grid.rings.len() {
-            ring.fill(Complex64::default());
+        // North ring: sum_l a_lm Lambda_lm; south ring at order -m:
+        // sum_l a_{l,-m} Lambda_{l,-m}(pi - theta) = sum_l (-1)^{l+s} a_{l,-m} Lambda_lm(theta).
+        let north_c = self.eval.by_order(|l, m| coeffs[lm_index(l, m)]);
+        let south_c = self
+            .eval
+            .by_order(|l, m| coeffs[lm_index(l, -m)] * self.mirror_sign(l));
+        let mut north = vec![vec![Complex64::default(); np]; RINGS];
+        let mut south = north.clone();
+        let mut scratch = Vec::new();
+        for (half, pairs) in self.ring_blocks() {
+            north
+                .iter_mut()
+                .chain(south.iter_mut())
+                .for_each(|v| v.fill(Complex64::default()));
             self.eval
-                .for_each_order(self.grid.rings.theta[j], |m, l0, lambda| {
-                    ring[self.bin(m)] = lambda
-                        .iter()
-                        .enumerate()
-                        .map(|(k, &v)| coeffs[lm_index(l0 + k, m)] * v)
-                        .sum();
+                .for_each_order_lanes(&half, &mut scratch, |m, _, col| {
+                    let (n, s) = dot2_lanes(col, north_c.column(m), south_c.column(m));
+                    let (bn, bs) = (self.bin(m), self.bin(-m));
+                    for j in 0..pairs.len() {
+                        north[j][bn] = n[j];
+                        south[j][bs] = s[j];
+                    }
                 });
-            self.inverse.process(&mut ring);
-            out[j * np..(j + 1) * np].copy_from_slice(&ring);
+            for (j, &(jn, js)) in pairs.iter().enumerate() {
+                self.inverse.process(&mut north[j]);
+                out[jn * np..(jn + 1) * np].copy_from_slice(&north[j]);
+                if js != jn {
+                    self.inverse.process(&mut south[j]);
+                    out[js * np..(js + 1) * np].copy_from_slice(&south[j]);
+                }
+            }
         }
         Ok(())
     }
@@ -133,21 +235,108 @@ impl SpinTransform {
         check_len("grid values", self.grid.len(), values.len())?;
         check_len("coefficients", num_coeffs(self.eval.lmax), out.len())?;
         let np = self.grid.n_phi;
-        out.fill(Complex64::default());
-        let mut ring = vec![Complex64::default(); np];
-        for j in 0..self.grid.rings.len() {
-            ring.copy_from_slice(&values[j * np..(j + 1) * np]);
-            self.forward.process(&mut ring);
-            let w = self.grid.weight(j);
+        // a_lm = sum_j w_j (Lambda_lm(theta_j) G_j(m) + (-1)^{l+s} Lambda_{l,-m}(theta_j) G'_j(m))
+        // over northern rings j with mirrors j': the column of order m feeds the north sum
+        // of a_{l,m} and the mirror sum of a_{l,-m}.
+        let zero = |_, _| Complex64::default();
+        let mut north_acc = self.eval.by_order(zero);
+        let mut south_acc = self.eval.by_order(zero);
+        let mut north = vec![vec![Complex64::default(); np]; RINGS];
+        let mut south = north.clone();
+        let mut scratch = Vec::new();
+        for (half, pairs) in self.ring_blocks() {
+            let mut w = [0.0; RINGS];
+            for (j, &(jn, js)) in pairs.iter().enumerate() {
+                w[j] = self.grid.weight(jn);
+                north[j].copy_from_slice(&values[jn * np..(jn + 1) * np]);
+                self.forward.process(&mut north[j]);
+                if js != jn {
+                    south[j].copy_from_slice(&values[js * np..(js + 1) * np]);
+                    self.forward.process(&mut south[j]);
+                } else {
+                    south[j].fill(Complex64::default());
+                }
+            }
             self.eval
-                .for_each_order(self.grid.rings.theta[j], |m, l0, lambda| {
-                    let g = ring[self.bin(m)] * w;
-                    for (k, &v) in lambda.iter().enumerate() {
-                        out[lm_index(l0 + k, m)] += g * v;
+                .for_each_order_lanes(&half, &mut scratch, |m, _, col| {
+                    let (bn, bs) = (self.bin(m), self.bin(-m));
+                    let mut gn = [Complex64::default(); RINGS];
+                    let mut gs = [Complex64::default(); RINGS];
+                    for j in 0..pairs.len() {
+                        gn[j] = north[j][bn] * w[j];
+                        gs[j] = south[j][bs] * w[j];
                     }
+                    accumulate2_lanes(
+                        col,
+                        &gn,
+                        &gs,
+                        north_acc.column_mut(m),
+                        south_acc.column_mut(-m),
+                    );
                 });
         }
+        out.fill(Complex64::default());
+        for col in &self.eval.columns {
+            let (n, s) = (north_acc.column(col.m), south_acc.column(col.m));
+            for (k, (a, b)) in n.iter().zip(s).enumerate() {
+                let l = col.l0 + k;
+                out[lm_index(l, col.m)] = a + b * self.mirror_sign(l);
+            }
+        }
         Ok(())
+    }
+}
+
+/// Per lane, `(sum_k col[k][j] a[k], sum_k col[k][j] b[k])`.
+#[inline]
+fn dot2_lanes(
+    col: &[[f64; RINGS]],
+    a: &[Complex64],
+    b: &[Complex64],
+) -> ([Complex64; RINGS], [Complex64; RINGS]) {
+    let (mut ar, mut ai, mut br, mut bi) = ([0.0; RINGS], [0.0; RINGS], [0.0; RINGS], [0.0; RINGS]);
+    for ((p, x), y) in col.iter().zip(a).zip(b) {
+        for j in 0..RINGS {
+            ar[j] += p[j] * x.re;
+            ai[j] += p[j] * x.im;
+            br[j] += p[j] * y.re;
+            bi[j] += p[j] * y.im;
+        }
+    }
+    (
+        std::array::from_fn(|j| Complex64::new(ar[j], ai[j])),
+        std::array::from_fn(|j| Complex64::new(br[j], bi[j])),
+    )
+}
+
+/// `acc_a[k] += sum_j col[k][j] ga[j]` and `acc_b[k] += sum_j col[k][j] gb[j]`.
+#[inline]
+fn accumulate2_lanes(
+    col: &[[f64; RINGS]],
+    ga: &[Complex64; RINGS],
+    gb: &[Complex64; RINGS],
+    acc_a: &mut [Complex64],
+    acc_b: &mut [Complex64],
+) {
+    let g: [[f64; RINGS]; 4] = [
+        std::array::from_fn(|j| ga[j].re),
+        std::array::from_fn(|j| ga[j].im),
+        std::array::from_fn(|j| gb[j].re),
+        std::array::from_fn(|j| gb[j].im),
+    ];
+    for ((p, a), b) in col.iter().zip(acc_a).zip(acc_b) {
+        // Four partial sums per dot, so that the reductions vectorize.
+        let mut s = [[0.0; 4]; 4];
+        for c in 0..RINGS / 4 {
+            for (sr, gr) in s.iter_mut().zip(&g) {
+                for q in 0..4 {
+                    sr[q] += p[4 * c + q] * gr[4 * c + q];
+                }
+            }
+        }
+        let d = s.map(|v| (v[0] + v[1]) + (v[2] + v[3]));
+        *a += Complex64::new(d[0], d[1]);
+        *b += Complex64::new(d[2], d[3]);
     }
 }
 
@@ -164,20 +353,34 @@ impl SpinEvaluator {
                 ),
             });
         }
-        let mp = -spin;
-        let columns = (-(lmax as i64)..=lmax as i64)
-            .map(|m| column(m, mp, lmax))
+        let parity = if spin % 2 == 0 { 1.0 } else { -1.0 };
+        // (-1)^s sqrt((2l+1)/(4 pi)), Lambda_lm = norm_l d^l_{m,-s}.
+        let norms: Vec<f64> = (0..=lmax)
+            .map(|l| parity * ((2 * l + 1) as f64 / (4.0 * PI)).sqrt())
             .collect();
+        let (mp, s) = (-spin, spin.abs());
+        let mut columns: Vec<Column> = (-s..=s).map(|m| seed_column(m, mp, lmax, &norms)).collect();
+        for j in s + 1..=lmax as i64 {
+            // Diagonal step from l0 = j - 1 to j (proofs/swsh.md): |d^j / d^{j-1}| =
+            // sqrt(2j (2j-1) / ((j+m')(j-m'))) cos(theta/2) sin(theta/2), with the sign -1
+            // on the side m > 0 (the (-sin) powers of case (a)).
+            let jf = j as f64;
+            let mpf = mp as f64;
+            let g = (2.0 * jf * (2.0 * jf - 1.0) / ((jf + mpf) * (jf - mpf))).sqrt()
+                * (norms[j as usize] / norms[j as usize - 1]);
+            for (m, sign) in [(-j, 1.0), (j, -1.0)] {
+                columns.push(Column {
+                    m,
+                    l0: j as usize,
+                    start: Start::Diagonal(sign * g),
+                    coeffs: recursion_coefficients(m, mp, j as usize, lmax, &norms),
+                });
+            }
+        }
         Ok(Self {
             spin,
             lmax,
             columns,
-            norms: (0..=lmax)
-                .map(|l| {
-                    let parity = if spin % 2 == 0 { 1.0 } else { -1.0 };
-                    parity * ((2 * l + 1) as f64 / (4.0 * PI)).sqrt()
-                })
-                .collect(),
         })
     }
 
@@ -186,52 +389,91 @@ impl SpinEvaluator {
         self.lmax
     }
 
-    /// Walks the orders at polar angle `theta` (in `[0, pi]`, unchecked): `f(m, l0, lambda)`
-    /// with `lambda[l - l0] = Lambda_lm(theta)`, `l0 = max(|m|, |s|)`.
-    pub(crate) fn for_each_order(&self, theta: f64, mut f: impl FnMut(i64, usize, &[f64])) {
-        let (sh, ch) = (0.5 * theta).sin_cos();
-        let (log_c, log_s) = (ch.log2(), sh.log2());
-        let u = 2.0 * sh * sh;
-        let mut buf = vec![0.0; self.lmax + 1];
-        for (i, col) in self.columns.iter().enumerate() {
-            let m = i as i64 - self.lmax as i64;
-            let out = &mut buf[..=self.lmax - col.l0];
-            // Start: sign 2^log_binom cos^a sin^b, as mantissa * 2^exp with exp a multiple
-            // of SCALE_BITS (cos, sin of the half angle are exact zero only at the poles).
-            let mut log = col.log_binom;
-            let mut zero = false;
-            for (pow, lg) in [(col.a, log_c), (col.b, log_s)] {
-                if pow > 0 {
-                    if lg == f64::NEG_INFINITY {
-                        zero = true;
-                    } else {
-                        log += pow as f64 * lg;
+    /// `f(l, m)` regrouped by order, `l = max(|m|, |s|)..=lmax` (the recursion's order).
+    fn by_order(&self, f: impl Fn(usize, i64) -> Complex64) -> OrderMajor {
+        let s = self.spin.unsigned_abs() as usize;
+        OrderMajor::new(self.lmax, |m| (m.unsigned_abs() as usize).max(s), f)
+    }
+
+    /// Walks the orders at `N` polar angles at once (given by their half angles):
+    /// `f(m, l0, column)` with `column[l - l0][j] = Lambda_lm` at `half[j]`,
+    /// `l0 = max(|m|, |s|)`, in the walk order of the columns (`|m|` increasing).
+    ///
+    /// As in [`crate::sh::legendre::Legendre::for_each_column_lanes`], values below the
+    /// f64 range carry a binary exponent (a multiple of `SCALE_BITS`), checked once per
+    /// [`LANE_BLOCK`] steps; values still below `2^-SCALE_BITS` when handed over are
+    /// negligible (they come out as zero or subnormal). `scratch` holds the column.
+    pub(crate) fn for_each_order_lanes<const N: usize>(
+        &self,
+        half: &[HalfAngle; N],
+        scratch: &mut Vec<[f64; N]>,
+        mut f: impl FnMut(i64, usize, &[[f64; N]]),
+    ) {
+        scratch.resize(self.lmax + 1, [0.0; N]);
+        let log_c = half.map(|h| h.cos.log2());
+        let log_s = half.map(|h| h.sin.log2());
+        let u: [f64; N] = std::array::from_fn(|j| 2.0 * half[j].sin * half[j].sin);
+        let cs: [f64; N] = std::array::from_fn(|j| half[j].cos * half[j].sin);
+        // Starts (mantissa, exponent) of the outermost orders so far, m < 0 and m > 0.
+        let mut edge = [([0.0; N], [0i32; N]); 2];
+        let s = self.spin.unsigned_abs() as usize;
+        for col in &self.columns {
+            let side = usize::from(col.m > 0);
+            let (mut p1, mut exp) = match col.start {
+                Start::Seed { log, a, b, sign } => seed_lanes(log, a, b, sign, &log_c, &log_s),
+                Start::Diagonal(g) => {
+                    let (d, e) = &mut edge[side];
+                    for j in 0..N {
+                        d[j] *= g * cs[j];
+                        if d[j] != 0.0 && d[j].abs() < SMALL {
+                            d[j] *= BIG;
+                            e[j] -= SCALE_BITS;
+                        }
+                    }
+                    (*d, *e)
+                }
+            };
+            if col.m.unsigned_abs() as usize == s {
+                edge[side] = (p1, exp);
+            }
+            let out = &mut scratch[..=self.lmax - col.l0];
+            let mut p2 = [0.0; N];
+            let mut scaled = exp.iter().any(|&e| e < 0);
+            let mut fac = lane_scale(&exp);
+            for j in 0..N {
+                out[0][j] = p1[j] * fac[j];
+            }
+            let mut k = 1;
+            while k < out.len() {
+                let end = (k + LANE_BLOCK).min(out.len());
+                for (o, &[a, b, c]) in out[k..end].iter_mut().zip(&col.coeffs[k - 1..end - 1]) {
+                    for j in 0..N {
+                        let p = a * ((c - u[j]) * p1[j] - b * p2[j]);
+                        p2[j] = p1[j];
+                        p1[j] = p;
+                        o[j] = p * fac[j];
                     }
                 }
-            }
-            let (mut p1, mut exp) = if zero {
-                (0.0, 0)
-            } else {
-                let k = ((-log) / SCALE_BITS as f64).ceil().max(0.0) as i32;
-                ((log + (k * SCALE_BITS) as f64).exp2(), -k * SCALE_BITS)
-            };
-            p1 *= col.sign;
-            let mut p2 = 0.0;
-            let norm = &self.norms[col.l0..];
-            out[0] = norm[0] * descale(p1, exp);
-            for (k, &[a, b, c]) in col.coeffs.iter().enumerate() {
-                let p = a * ((c - u) * p1 - b * p2);
-                p2 = p1;
-                p1 = p;
-                if exp < 0 && p1.abs() > BIG {
-                    p1 *= SMALL;
-                    p2 *= SMALL;
-                    exp += SCALE_BITS;
+                if scaled {
+                    scaled = rescale_lanes(&mut p1, &mut p2, &mut exp);
+                    fac = lane_scale(&exp);
                 }
-                out[k + 1] = norm[k + 1] * descale(p1, exp);
+                k = end;
             }
-            f(m, col.l0, out);
+            f(col.m, col.l0, out);
         }
+    }
+
+    /// Walks the orders at polar angle `theta` (in `[0, pi]`, unchecked): `f(m, l0, lambda)`
+    /// with `lambda[l - l0] = Lambda_lm(theta)`, `l0 = max(|m|, |s|)` (one lane of
+    /// [`SpinEvaluator::for_each_order_lanes`]).
+    pub(crate) fn for_each_order(&self, theta: f64, mut f: impl FnMut(i64, usize, &[f64])) {
+        let mut scratch = Vec::new();
+        self.for_each_order_lanes(
+            &[HalfAngle::from_theta(theta)],
+            &mut scratch,
+            |m, l0, col| f(m, l0, col.as_flattened()),
+        );
     }
 
     /// `sY_lm(theta, phi)` for all `l <= lmax` in flat order (zeros where `l < |s|`), into
@@ -252,6 +494,36 @@ impl SpinEvaluator {
     }
 }
 
+/// The seed start `sign 2^log cos^a sin^b` per lane, as a mantissa in `(2^-SCALE_BITS, 1]`
+/// (or larger with exponent 0) times `2^exp`, `exp` a non-positive multiple of
+/// `SCALE_BITS`; zero where a positive power meets a zero half-angle function (the poles).
+fn seed_lanes<const N: usize>(
+    log: f64,
+    a: i32,
+    b: i32,
+    sign: f64,
+    log_c: &[f64; N],
+    log_s: &[f64; N],
+) -> ([f64; N], [i32; N]) {
+    let mut p = [0.0; N];
+    let mut exp = [0; N];
+    for j in 0..N {
+        let mut lg = log;
+        for (pow, l) in [(a, log_c[j]), (b, log_s[j])] {
+            if pow > 0 {
+                lg += pow as f64 * l;
+            }
+        }
+        if lg == f64::NEG_INFINITY {
+            continue;
+        }
+        let k = ((-lg) / SCALE_BITS as f64).floor().max(0.0) as i32;
+        p[j] = sign * (lg + (k * SCALE_BITS) as f64).exp2();
+        exp[j] = -k * SCALE_BITS;
+    }
+    (p, exp)
+}
+
 /// `0.5 log2 binom(n, k)`.
 fn half_log2_binom(n: usize, k: usize) -> f64 {
     0.5 * (1..=k)
@@ -259,9 +531,31 @@ fn half_log2_binom(n: usize, k: usize) -> f64 {
         .sum::<f64>()
 }
 
-/// Start and recursion coefficients of order `m` for `m' = -s` (closed forms of
-/// `d^{l0}_{m m'}` in `proofs/swsh.md`).
-fn column(m: i64, mp: i64, lmax: usize) -> Column {
+/// `[A_l, B_l, c_l]` of order `m` for `m'`, `l = l0 + 1..=lmax`, on `Lambda = norm d`:
+/// `A_l norm_l / norm_{l-1}` and `B_l norm_{l-1} / norm_{l-2}`.
+fn recursion_coefficients(m: i64, mp: i64, l0: usize, lmax: usize, norms: &[f64]) -> Vec<[f64; 3]> {
+    let (mf, mpf) = (m as f64, mp as f64);
+    (l0 + 1..=lmax)
+        .map(|l| {
+            let lf = l as f64;
+            let big_a =
+                lf * (2.0 * lf - 1.0) / ((lf * lf - mf * mf) * (lf * lf - mpf * mpf)).sqrt();
+            let l1 = lf - 1.0;
+            let big_b =
+                ((l1 * l1 - mf * mf) * (l1 * l1 - mpf * mpf)).sqrt() / (l1 * (2.0 * lf - 1.0));
+            let c = 1.0 - mf * mpf / (lf * l1);
+            [
+                big_a * (norms[l] / norms[l - 1]),
+                big_b * (norms[l - 1] / norms[l - 2]),
+                c,
+            ]
+        })
+        .collect()
+}
+
+/// The column of order `m`, `|m| <= |m'|`, for `m' = -s`, started from the closed form of
+/// `d^{l0}_{m m'}` (`proofs/swsh.md`) times `norm_{l0}`.
+fn seed_column(m: i64, mp: i64, lmax: usize, norms: &[f64]) -> Column {
     let j = m.abs().max(mp.abs());
     let l0 = j as usize;
     let (k, a, b, sign) = if m.abs() >= mp.abs() {
@@ -281,26 +575,17 @@ fn column(m: i64, mp: i64, lmax: usize) -> Column {
         let sign = if (m + j) % 2 == 0 { 1.0 } else { -1.0 };
         (j - m, j - m, j + m, sign)
     };
-    let (mf, mpf) = (m as f64, mp as f64);
-    let coeffs = (l0 + 1..=lmax)
-        .map(|l| {
-            let lf = l as f64;
-            let big_a =
-                lf * (2.0 * lf - 1.0) / ((lf * lf - mf * mf) * (lf * lf - mpf * mpf)).sqrt();
-            let l1 = lf - 1.0;
-            let big_b =
-                ((l1 * l1 - mf * mf) * (l1 * l1 - mpf * mpf)).sqrt() / (l1 * (2.0 * lf - 1.0));
-            let c = 1.0 - mf * mpf / (lf * l1);
-            [big_a, big_b, c]
-        })
-        .collect();
+    let norm = norms[l0];
     Column {
+        m,
         l0,
-        log_binom: half_log2_binom(2 * l0, k as usize),
-        a: a as i32,
-        b: b as i32,
-        sign,
-        coeffs,
+        start: Start::Seed {
+            log: half_log2_binom(2 * l0, k as usize) + norm.abs().log2(),
+            a: a as i32,
+            b: b as i32,
+            sign: sign * norm.signum(),
+        },
+        coeffs: recursion_coefficients(m, mp, l0, lmax, norms),
     }
 }
 
@@ -382,6 +667,30 @@ mod tests {
         assert!(ev.values(f64::NAN, 0.0, &mut out).is_err());
         assert!(ev.values(0.1, f64::INFINITY, &mut out).is_err());
         assert!(ev.values(0.1, 0.0, &mut out[..5]).is_err());
+    }
+
+    /// The mirror relation `Lambda_lm(pi - theta) = (-1)^{l+s} Lambda_{l,-m}(theta)` that
+    /// pairs the rings (proofs/swsh.md), on Risbo's values.
+    #[test]
+    fn mirror_rings_swap_orders() {
+        let lmax = 12;
+        for spin in [1i64, 2, -2, 3] {
+            for theta in [0.0, 0.3, 1.2, std::f64::consts::FRAC_PI_2] {
+                let north = swsh(spin, lmax, theta, 0.0).unwrap();
+                let south = swsh(spin, lmax, std::f64::consts::PI - theta, 0.0).unwrap();
+                for l in spin.unsigned_abs() as usize..=lmax {
+                    let sign = if (l as i64 + spin) % 2 == 0 {
+                        1.0
+                    } else {
+                        -1.0
+                    };
+                    for m in -(l as i64)..=l as i64 {
+                        let (a, b) = (south[lm_index(l, m)], north[lm_index(l, -m)] * sign);
+                        assert!((a - b).norm() < 1e-14, "spin {spin} l {l} m {m}");
+                    }
+                }
+            }
+        }
     }
 
     #[test]
