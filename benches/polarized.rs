@@ -3,7 +3,7 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use psh::geometry::frame::CubeMapFrameField;
 use psh::geometry::image_grid::{CubeCross, PixelGrid};
-use psh::polarized::{project_image, Codomain, PshRotation};
+use psh::polarized::{project_cube_map, project_image, Codomain, PshRotation};
 use psh::sh::wigner::rotation_from_rotvec;
 use psh::verify::{pseudo_random, random_psh};
 
@@ -25,7 +25,11 @@ fn psh_project(c: &mut Criterion) {
     let refs: Vec<&[[f64; 4]]> = images.iter().map(|v| v.as_slice()).collect();
     let mut grp = c.benchmark_group("psh_project");
     grp.sample_size(10);
+    // The cube-map path (`StokesMap::project`), and the generic texel quadrature.
     grp.bench_function("cube64/16", |b| {
+        b.iter(|| project_cube_map(&g, black_box(&refs), Codomain::Full, 15).unwrap())
+    });
+    grp.bench_function("cube64_generic/16", |b| {
         b.iter(|| {
             project_image(&g, &CubeMapFrameField, black_box(&refs), Codomain::Full, 15).unwrap()
         })

@@ -9,7 +9,7 @@
 use crate::error::{Error, Result};
 use crate::geometry::frame::{CubeMapFrameField, Frame, FrameField, ThetaPhiFrameField};
 use crate::geometry::image_grid::{CubeCross, Equirect, PixelGrid};
-use crate::polarized::{project_image, reconstruct_image, Codomain, PshVector};
+use crate::polarized::{project_cube_map, project_image, reconstruct_image, Codomain, PshVector};
 
 /// The pixel layout of a map.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -170,10 +170,14 @@ impl StokesMap {
     }
 
     /// PSH coefficients of `l <= lmax` (projection PSH (32) by the texel-wise quadrature of
-    /// [`project_image`]) of the components of `codomain`.
+    /// [`project_image`]; for cube crosses by [`project_cube_map`]) of the components of
+    /// `codomain`.
     pub fn project(&self, codomain: Codomain, lmax: usize) -> Result<PshVector> {
         let refs: Vec<&[[f64; 4]]> = self.channels.iter().map(|c| c.as_slice()).collect();
-        project_image(&self.layout, &self.frame_field(), &refs, codomain, lmax)
+        match &self.layout {
+            MapLayout::CubeCross(g) => project_cube_map(g, &refs, codomain, lmax),
+            MapLayout::Equirect(g) => project_image(g, &self.frame_field(), &refs, codomain, lmax),
+        }
     }
 }
 

@@ -73,17 +73,30 @@ impl CubeFace {
         }
     }
 
+    /// The block `(row, col)` of the face in the 3 x 4 cross.
+    pub fn block(self) -> (usize, usize) {
+        match self {
+            CubeFace::Up => (0, 1),
+            CubeFace::Left => (1, 0),
+            CubeFace::Front => (1, 1),
+            CubeFace::Right => (1, 2),
+            CubeFace::Back => (1, 3),
+            CubeFace::Down => (2, 1),
+        }
+    }
+
     /// The face at block `(row, col)` of the 3 x 4 cross, if any.
     pub fn at_block(row: usize, col: usize) -> Option<Self> {
-        match (row, col) {
-            (0, 1) => Some(CubeFace::Up),
-            (1, 0) => Some(CubeFace::Left),
-            (1, 1) => Some(CubeFace::Front),
-            (1, 2) => Some(CubeFace::Right),
-            (1, 3) => Some(CubeFace::Back),
-            (2, 1) => Some(CubeFace::Down),
-            _ => None,
-        }
+        [
+            CubeFace::Up,
+            CubeFace::Left,
+            CubeFace::Front,
+            CubeFace::Right,
+            CubeFace::Back,
+            CubeFace::Down,
+        ]
+        .into_iter()
+        .find(|f| f.block() == (row, col))
     }
 }
 

@@ -13,11 +13,13 @@
 //! outside it are stored as zeros. Storage follows the polarsh `.npz` layout
 //! `coeff[channel][l*l + l + m][p]`, `p` running over the codomain's components.
 
+mod cube;
 pub mod figure10;
 mod image;
 mod rotation;
 mod synthesis;
 
+pub use cube::project_cube_map;
 pub use image::project_image;
 pub use rotation::PshRotation;
 pub use synthesis::reconstruct_image;

@@ -6,6 +6,7 @@
 use super::harmonics::ShEvaluator;
 use crate::error::{check_len, finite, Result};
 use crate::geometry::image_grid::PixelGrid;
+use nalgebra::{DMatrix, DMatrixView};
 
 /// Texels evaluated per batch (bounds the scratch to `CHUNK (lmax+1)^2` values).
 const CHUNK: usize = 1024;
@@ -18,7 +19,8 @@ pub fn project_real(grid: &impl PixelGrid, values: &[f64], lmax: usize) -> Resul
 }
 
 /// Real SH coefficients of several images (channels) on the same grid, sharing the SH
-/// evaluation: one coefficient vector per channel.
+/// evaluation: one coefficient vector per channel. Per chunk of texels the sums are one
+/// matrix product `F += Y^T (Omega v)` (nalgebra's `gemm`).
 pub fn project_real_channels(
     grid: &impl PixelGrid,
     channels: &[&[f64]],
@@ -29,29 +31,32 @@ pub fn project_real_channels(
     }
     let ev = ShEvaluator::new(lmax)?;
     let n = ev.len();
-    let mut out = vec![vec![0.0; n]; channels.len()];
-    let texels: Vec<usize> = (0..grid.len())
-        .filter(|&i| grid.solid_angle(i) > 0.0)
+    let mut out = DMatrix::<f64>::zeros(n, channels.len());
+    let texels: Vec<(usize, f64)> = (0..grid.len())
+        .map(|i| (i, grid.solid_angle(i)))
+        .filter(|&(_, w)| w > 0.0)
         .collect();
     let mut dirs = Vec::with_capacity(CHUNK);
     let mut y = vec![0.0; CHUNK * n];
     for chunk in texels.chunks(CHUNK) {
         dirs.clear();
-        dirs.extend(chunk.iter().map(|&i| grid.direction(i)));
+        dirs.extend(chunk.iter().map(|&(i, _)| grid.direction(i)));
         let y = &mut y[..chunk.len() * n];
         ev.real_batch(&dirs, y)?;
-        for (k, &i) in chunk.iter().enumerate() {
-            let w = grid.solid_angle(i);
-            let row = &y[k * n..(k + 1) * n];
-            for (c, vals) in channels.iter().enumerate() {
-                let v = finite("texel value", vals[i])? * w;
-                for (o, &yl) in out[c].iter_mut().zip(row) {
-                    *o += v * yl;
-                }
+        let mut v = DMatrix::<f64>::zeros(chunk.len(), channels.len());
+        for (c, vals) in channels.iter().enumerate() {
+            for (k, &(i, w)) in chunk.iter().enumerate() {
+                v[(k, c)] = finite("texel value", vals[i])? * w;
             }
         }
+        // Y (chunk x n, row-major) is Y^T column-major.
+        let yt = DMatrixView::from_slice(y, n, chunk.len());
+        out.gemm(1.0, &yt, &v, 1.0);
     }
-    Ok(out)
+    Ok(out
+        .column_iter()
+        .map(|c| c.iter().copied().collect())
+        .collect())
 }
 
 #[cfg(test)]
