@@ -13,6 +13,7 @@ pub mod exact;
 pub mod geometry;
 pub mod io;
 pub mod map;
+pub mod optics;
 pub mod polarized;
 pub mod sh;
 pub mod stokes;

@@ -57,3 +57,8 @@ fn verify_stokes() {
 fn verify_polarized() {
     run_group("polarized.");
 }
+
+#[test]
+fn verify_optics() {
+    run_group("optics.");
+}

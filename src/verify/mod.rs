@@ -6,6 +6,7 @@
 //! contract of DESIGN.md: `{"id", "source", "description", "max_error", "tolerance",
 //! "passed"}` (plus `"proof"`, the derivation's page in `proofs/`, when there is one).
 
+mod optics;
 mod oracle;
 mod polarized;
 mod sh;
@@ -54,6 +55,7 @@ pub fn checks() -> Vec<Check> {
     all.extend(swsh::checks());
     all.extend(stokes::checks());
     all.extend(polarized::checks());
+    all.extend(optics::checks());
     all
 }
 

@@ -1,0 +1,80 @@
+//! The relative complex index of refraction `eta = n + i k` of an interface.
+
+use crate::error::{Error, Result};
+use num_complex::Complex64;
+
+/// The relative index of refraction `eta = n + i k = eta_t / eta_i` of an interface: the
+/// medium the light would enter over the medium it comes from (Born & Wolf §1.5.2 for a
+/// real `eta`, §14.2 for an absorbing medium).
+///
+/// `k >= 0` is the extinction coefficient in the physics time convention `e^{-i omega t}`
+/// (fields `e^{i (k.r - omega t)}`), the convention of Born & Wolf, of refractiveindex.info
+/// and of the PF paper's Table 1. A dielectric seen from inside (light inside glass of
+/// index `n`, outside air) has `eta = 1/n < 1`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ComplexIor {
+    n: f64,
+    k: f64,
+}
+
+impl ComplexIor {
+    /// `eta = n + i k`. Errors ([`Error::InvalidArgument`] naming the value): `n` or `k`
+    /// NaN or infinite, `n < 0`, `k < 0` (a gain medium), or `n = k = 0`.
+    pub fn new(n: f64, k: f64) -> Result<Self> {
+        let bad = |name: &'static str, value: f64, reason: &str| Error::InvalidArgument {
+            name,
+            value: format!("{value}"),
+            reason: reason.to_string(),
+        };
+        if !n.is_finite() || n < 0.0 {
+            return Err(bad(
+                "refractive index n",
+                n,
+                "must be finite and non-negative",
+            ));
+        }
+        if !k.is_finite() || k < 0.0 {
+            return Err(bad(
+                "extinction coefficient k",
+                k,
+                "must be finite and non-negative (k < 0 is a gain medium)",
+            ));
+        }
+        if n == 0.0 && k == 0.0 {
+            return Err(bad("refractive index n", n, "n = k = 0 is not a medium"));
+        }
+        Ok(Self { n, k })
+    }
+
+    /// A dielectric, `eta = n` (`k = 0`). Errors as [`ComplexIor::new`], and `n = 0`.
+    pub fn dielectric(n: f64) -> Result<Self> {
+        Self::new(n, 0.0)
+    }
+
+    /// The real part `n`.
+    pub fn n(&self) -> f64 {
+        self.n
+    }
+
+    /// The extinction coefficient `k >= 0`.
+    pub fn k(&self) -> f64 {
+        self.k
+    }
+
+    /// `eta = n + i k`.
+    pub fn eta(&self) -> Complex64 {
+        Complex64::new(self.n, self.k)
+    }
+
+    /// Whether `k = 0`.
+    pub fn is_dielectric(&self) -> bool {
+        self.k == 0.0
+    }
+
+    /// The reflectance at normal incidence, `R_0 = ((n - 1)^2 + k^2) / ((n + 1)^2 + k^2)`
+    /// (PF (3); the `cos_i = 1` value of [`crate::optics::FresnelCoefficients`]).
+    pub fn normal_reflectance(&self) -> f64 {
+        let (n, k2) = (self.n, self.k * self.k);
+        ((n - 1.0) * (n - 1.0) + k2) / ((n + 1.0) * (n + 1.0) + k2)
+    }
+}
