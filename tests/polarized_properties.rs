@@ -76,4 +76,28 @@ proptest! {
             .rotate(&PshRotation::new(&r2, lmax).unwrap().rotate(&v).unwrap()).unwrap();
         prop_assert!(max_rel(&one, &two) < 1e-13, "{}", max_rel(&one, &two));
     }
+
+    /// PSH (49): turning the input frame by alpha and the output frame by beta about their
+    /// rays multiplies m_iso by e^{2i(alpha - beta)} and m_conj by e^{-2i(alpha + beta)}
+    /// (proofs/coefficient-matrices.md Sec. 2).
+    #[test]
+    fn complex_pair_transforms_as_psh_49(
+        entries in prop::array::uniform16(-1.0f64..1.0),
+        zi in rotvec(), zo in rotvec(), alpha in -4.0f64..4.0, beta in -4.0f64..4.0,
+    ) {
+        use num_complex::Complex64;
+        use psh::stokes::{complex_pair, MuellerMatrix, MuellerTransform};
+        let rows: [[f64; 4]; 4] = std::array::from_fn(|r| std::array::from_fn(|c| entries[r * 4 + c]));
+        let fi = Frame::from_rotation(&rotation_from_rotvec(zi).unwrap()).unwrap();
+        let fo = Frame::from_rotation(&rotation_from_rotvec(zo).unwrap()).unwrap();
+        let t = MuellerTransform::new(MuellerMatrix::from_rows(rows).unwrap(), fi, fo);
+        let (gi, go) = (fi.rotated_about_z(alpha).unwrap(), fo.rotated_about_z(beta).unwrap());
+        let m = t.matrix_in(&gi, &go).unwrap();
+        let e = |r, c| m.get(r, c).unwrap();
+        let (iso, conj) = complex_pair([[e(1, 1), e(1, 2)], [e(2, 1), e(2, 2)]]);
+        let (iso0, conj0) = complex_pair([[rows[1][1], rows[1][2]], [rows[2][1], rows[2][2]]]);
+        let want_iso = iso0 * Complex64::from_polar(1.0, 2.0 * (alpha - beta));
+        let want_conj = conj0 * Complex64::from_polar(1.0, -2.0 * (alpha + beta));
+        prop_assert!((iso - want_iso).norm() < 1e-13 && (conj - want_conj).norm() < 1e-13);
+    }
 }

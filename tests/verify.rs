@@ -62,3 +62,8 @@ fn verify_polarized() {
 fn verify_optics() {
     run_group("optics.");
 }
+
+#[test]
+fn verify_matrix() {
+    run_group("matrix.");
+}

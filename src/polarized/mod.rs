@@ -16,11 +16,13 @@
 mod cube;
 pub mod figure10;
 mod image;
+mod matrix;
 mod rotation;
 mod synthesis;
 
 pub use cube::project_cube_map;
 pub use image::project_image;
+pub use matrix::{project_operator, MatrixKernel, PshMatrix, SpinBlock22};
 pub use rotation::PshRotation;
 pub use synthesis::reconstruct_image;
 

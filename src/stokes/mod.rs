@@ -30,12 +30,14 @@
 //!   is not fixed here (it matters only for retarders and reflections, `optics`).
 //! - Same-ray tolerance: [`crate::geometry::frame::RAY_TOLERANCE`].
 
+mod complex_pair;
 mod components;
 mod field;
 mod mueller;
 mod mueller_field;
 mod vector;
 
+pub use complex_pair::{complex_pair, from_complex_pair};
 pub use components::StokesComponents;
 pub use field::convert_between_fields;
 pub use mueller::{rotator, MuellerMatrix, MuellerTransform};

@@ -6,6 +6,7 @@
 //! contract of DESIGN.md: `{"id", "source", "description", "max_error", "tolerance",
 //! "passed"}` (plus `"proof"`, the derivation's page in `proofs/`, when there is one).
 
+mod matrix;
 mod optics;
 mod oracle;
 mod polarized;
@@ -55,6 +56,7 @@ pub fn checks() -> Vec<Check> {
     all.extend(swsh::checks());
     all.extend(stokes::checks());
     all.extend(polarized::checks());
+    all.extend(matrix::checks());
     all.extend(optics::checks());
     all
 }
@@ -119,4 +121,17 @@ pub fn random_psh(
         }
     }
     PshVector::from_data(lmax, codomain, channels, data)
+}
+
+/// A random coefficient matrix (full Stokes) on the index set PSH (31).
+pub fn random_psh_matrix(lmax: usize, seed: u64) -> Result<crate::polarized::PshMatrix> {
+    let n = crate::sh::num_coeffs(lmax);
+    let mut data = pseudo_random(n * n * 16, seed);
+    for (k, x) in data.iter_mut().enumerate() {
+        let (jo, ji, po, pi) = (k / (16 * n), (k / 16) % n, (k / 4) % 4, k % 4);
+        if (jo < 4 && (po == 1 || po == 2)) || (ji < 4 && (pi == 1 || pi == 2)) {
+            *x = 0.0;
+        }
+    }
+    crate::polarized::PshMatrix::from_data(lmax, data)
 }
