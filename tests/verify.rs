@@ -67,3 +67,8 @@ fn verify_optics() {
 fn verify_matrix() {
     run_group("matrix.");
 }
+
+#[test]
+fn verify_triple() {
+    run_group("triple.");
+}

@@ -99,8 +99,14 @@ impl MicrofacetSpecular {
         if ci <= 0.0 || co < 0.0 {
             return Ok(Matrix4::zeros());
         }
-        // w_i + w_o has z >= ci > 0, so h is defined and faces up.
+        // w_i + w_o has z >= ci > 0, so h is defined and faces up; but when both are
+        // grazing and w_o is within rounding of -w_i, |w_i + w_o| is rounding noise and so
+        // is h: that configuration (a set of measure zero, where the value has no limit)
+        // is given 0, so that the model stays a function of phi_o - phi_i to rounding.
         let v = wi + wo;
+        if v.norm() < HALF_VECTOR_EPS {
+            return Ok(Matrix4::zeros());
+        }
         let h = (v / v.amax()).normalize();
         let cos_d = h.dot(wi).clamp(0.0, 1.0);
         let fresnel = FresnelCoefficients::new(cos_d, &self.ior)?
@@ -112,6 +118,9 @@ impl MicrofacetSpecular {
         Ok(fresnel * scale)
     }
 }
+
+/// Below this `|w_i + w_o|` the half vector is not resolved in `f64`.
+const HALF_VECTOR_EPS: f64 = 1e-8;
 
 impl MuellerField for MicrofacetSpecular {
     /// `[P(w_i, w_o)]_{F_i -> F_o}` in the frames of [`sp_frames`]. Errors: a non-unit or

@@ -94,22 +94,8 @@ impl PshMatrix {
     /// PSH (41): the coefficients of `P_F[f]` from those of `f` (every channel; components
     /// outside `f`'s codomain read as zero, the result is full Stokes).
     pub fn apply(&self, f: &PshVector) -> Result<PshVector> {
-        if f.lmax() != self.lmax {
-            return Err(Error::InvalidArgument {
-                name: "PSH vector",
-                value: format!("lmax {}", f.lmax()),
-                reason: format!("the matrix has lmax {}", self.lmax),
-            });
-        }
         let n = num_coeffs(self.lmax);
-        let mut out = vec![0.0; f.channels() * n * 4];
-        for c in 0..f.channels() {
-            let x: Vec<[f64; 4]> = (0..n)
-                .map(|j| {
-                    let (l, m) = crate::sh::lm_of_index(j);
-                    std::array::from_fn(|p| f.get(c, l, m, p).unwrap_or(0.0))
-                })
-                .collect();
+        apply_by_channel(self.lmax, f, |x, out| {
             for jo in 0..n {
                 for po in 0..4 {
                     let mut s = 0.0;
@@ -117,11 +103,10 @@ impl PshMatrix {
                         let e = &self.data[self.index(jo, ji, po, 0)..][..4];
                         s += e[0] * xi[0] + e[1] * xi[1] + e[2] * xi[2] + e[3] * xi[3];
                     }
-                    out[(c * n + jo) * 4 + po] = s;
+                    out[jo * 4 + po] = s;
                 }
             }
-        }
-        PshVector::from_data(self.lmax, Codomain::Full, f.channels(), out)
+        })
     }
 }
 
@@ -323,6 +308,35 @@ impl MuellerField for MatrixKernel<'_> {
             tp.frame(wo)?,
         ))
     }
+}
+
+/// PSH (41) channel by channel: `product(x, out)` gets the input coefficients
+/// `x[j] = [f_j0, f_j1, f_j2, f_j3]` (zero outside `f`'s codomain) and fills
+/// `out[j * 4 + p]`. Error: `f` of another band limit than `lmax`.
+pub(super) fn apply_by_channel(
+    lmax: usize,
+    f: &PshVector,
+    product: impl Fn(&[[f64; 4]], &mut [f64]),
+) -> Result<PshVector> {
+    if f.lmax() != lmax {
+        return Err(Error::InvalidArgument {
+            name: "PSH vector",
+            value: format!("lmax {}", f.lmax()),
+            reason: format!("the matrix has lmax {lmax}"),
+        });
+    }
+    let n = num_coeffs(lmax);
+    let mut out = vec![0.0; f.channels() * n * 4];
+    for (c, o) in out.chunks_exact_mut(n * 4).enumerate() {
+        let x: Vec<[f64; 4]> = (0..n)
+            .map(|j| {
+                let (l, m) = crate::sh::lm_of_index(j);
+                std::array::from_fn(|p| f.get(c, l, m, p).unwrap_or(0.0))
+            })
+            .collect();
+        product(&x, o);
+    }
+    PshVector::from_data(lmax, Codomain::Full, f.channels(), out)
 }
 
 /// Whether flat index `j` with Stokes component `p` is in PSH (31).

@@ -16,15 +16,19 @@
 mod cube;
 pub mod figure10;
 mod image;
+mod isotropic;
 mod matrix;
 mod rotation;
 mod synthesis;
+mod triple;
 
 pub use cube::project_cube_map;
 pub use image::project_image;
+pub use isotropic::{isotropic_pairs, isotropy_defect, IsotropicMatrix};
 pub use matrix::{project_operator, MatrixKernel, PshMatrix, SpinBlock22};
 pub use rotation::PshRotation;
 pub use synthesis::reconstruct_image;
+pub use triple::{spin2_gaunt, visibility_transfer, visibility_transfer_quadrature, TripleTable};
 
 use crate::error::{check_len, Error, Result};
 use crate::geometry::frame::{FrameField, ThetaPhiFrameField};

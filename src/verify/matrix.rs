@@ -32,7 +32,26 @@ pub fn checks() -> Vec<Check> {
             proof: Some("proofs/coefficient-matrices.md"),
             run: complex_pair_vs_four_integrals,
         },
+        Check {
+            id: "matrix.isotropic_sparsity",
+            source: "PSH (52)-(53)",
+            description: "coefficient matrix of an isotropic pBRDF (polarized plastic, L = 4, grid 8): largest entry PSH (52)-(53) require to vanish relative to the largest entry, and the sparse isotropic product vs the dense one (relative)",
+            tolerance: 1e-13,
+            proof: None,
+            run: isotropic_sparsity,
+        },
     ]
+}
+
+fn isotropic_sparsity() -> Result<f64> {
+    use crate::polarized::{isotropy_defect, IsotropicMatrix};
+    let plastic = crate::optics::PolarizedPlastic::new(0.3, 1.5, 0.5)?;
+    let m = project_operator(&plastic, 4, 8, SpinBlock22::ComplexPair)?;
+    let defect = isotropy_defect(&m);
+    let sparse = IsotropicMatrix::from_dense(&m, 1e-12)?;
+    let f = random_psh(4, Codomain::Full, 3, 83)?;
+    let (a, b) = (sparse.apply(&f)?, m.apply(&f)?);
+    Ok(defect.max(max_diff(a.data(), b.data()) / max_abs(b.data())))
 }
 
 fn max_diff(a: &[f64], b: &[f64]) -> f64 {

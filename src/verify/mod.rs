@@ -13,6 +13,7 @@ mod polarized;
 mod sh;
 mod stokes;
 mod swsh;
+mod triple;
 
 use crate::error::Result;
 use crate::polarized::{Codomain, PshVector};
@@ -58,6 +59,7 @@ pub fn checks() -> Vec<Check> {
     all.extend(polarized::checks());
     all.extend(matrix::checks());
     all.extend(optics::checks());
+    all.extend(triple::checks());
     all
 }
 

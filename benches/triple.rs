@@ -1,0 +1,25 @@
+//! Criterion benches of shadowed transfer by triple products (ids as in the issue tracker).
+
+use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use psh::polarized::{visibility_transfer, TripleTable};
+use psh::verify::pseudo_random;
+
+/// PSH (54)-(56): the transfer matrix of l < 5 from a visibility vector of l < 10.
+fn triple(c: &mut Criterion) {
+    let (lv, lmax) = (9, 4);
+    let v = pseudo_random((lv + 1) * (lv + 1), 5);
+    let mut grp = c.benchmark_group("triple");
+    // One call, couplings included.
+    grp.bench_function("visibility_to_transfer/5", |b| {
+        b.iter(|| visibility_transfer(black_box(&v), lv, lmax).unwrap())
+    });
+    // With the couplings precomputed.
+    let t = TripleTable::new(lv, lmax).unwrap();
+    grp.bench_function("visibility_to_transfer_table/5", |b| {
+        b.iter(|| t.transfer(black_box(&v)).unwrap())
+    });
+    grp.finish();
+}
+
+criterion_group!(benches, triple);
+criterion_main!(benches);

@@ -1,0 +1,341 @@
+//! Shadowed transfer by triple products (PSH Sec. 6.3.4): the PSH coefficient matrix of
+//! the operator `f -> V f` for a scalar visibility `V` given by real SH coefficients
+//! (PSH (54)-(56); derivation in `proofs/triple-products.md`).
+//!
+//! - Spin 0-to-0 (`p_o = p_i` in `{0, 3}`): `sum v_{l'm'} int Y^R_{j_o} Y^R_{l'm'} Y^R_{j_i}`
+//!   (real Gaunt coefficients, PSH (55)).
+//! - Spin 2-to-2 (`p_o, p_i` in `{1, 2}`): `V` is a pure isomorphic part, so the block is
+//!   `R(P~iso)` (`proofs/coefficient-matrices.md` (51a)) with
+//!   `P~iso_{j_o j_i} = sum v_{l'm'} int conj(2Y_{j_o}) Y^R_{l'm'} 2Y_{j_i}` (PSH (56)).
+//! - Spin 0-to-2 and 2-to-0 blocks vanish.
+
+use super::PshMatrix;
+use crate::error::{check_len, Error, Result};
+use crate::sh::gaunt::{wigner_3j_row, wigner_3j_row_into, GauntBasis, GauntTable};
+use crate::sh::{check_lmax, lm_index, num_coeffs};
+use num_complex::Complex64;
+use std::f64::consts::{FRAC_1_SQRT_2, PI};
+
+/// `(-1)^n`.
+fn parity(n: i64) -> f64 {
+    if n.rem_euclid(2) == 0 {
+        1.0
+    } else {
+        -1.0
+    }
+}
+
+/// `int conj(2Y_{lo mo}) Y_{l m} 2Y_{li mi} dw` for the complex SH of PSH (1) and the
+/// `2Y` of `crate::swsh`: `(-1)^{mo} sqrt((2lo+1)(2l+1)(2li+1)/(4 pi))
+/// (lo l li; -mo m mi) (lo l li; 2 0 -2)` (`proofs/triple-products.md` (T3)).
+pub fn spin2_gaunt(lo: usize, mo: i64, l: usize, m: i64, li: usize, mi: i64) -> Result<f64> {
+    for (name, lv, mv) in [("mo", lo, mo), ("m", l, m), ("mi", li, mi)] {
+        crate::sh::check_lm(lv as i64, mv).map_err(|_| Error::OrderOutOfRange {
+            name,
+            l: lv as i64,
+            m: mv,
+        })?;
+    }
+    if lo < 2 || li < 2 || mi != mo - m {
+        return Ok(0.0);
+    }
+    let a = wigner_3j_row(lo, l, -mo, m)?.get(li);
+    let b = wigner_3j_row(lo, l, 2, 0)?.get(li);
+    Ok(parity(mo) * prefactor(lo, l, li) * a * b)
+}
+
+/// `sqrt((2l1+1)(2l2+1)(2l3+1)/(4 pi))` (DLMF §34.3(vii)).
+fn prefactor(l1: usize, l2: usize, l3: usize) -> f64 {
+    (((2 * l1 + 1) * (2 * l2 + 1) * (2 * l3 + 1)) as f64 / (4.0 * PI)).sqrt()
+}
+
+/// Complex SH coefficients `c_{l mu}` of a real expansion `sum v_{lm} Y^R_{lm}` (PSH (12)):
+/// `c_{l,mu} = (v_{l,mu} - i v_{l,-mu})/sqrt 2`, `c_{l,-mu} = (-1)^mu conj(c_{l,mu})` for
+/// `mu > 0`, `c_{l0} = v_{l0}` (`proofs/triple-products.md` (T4)).
+fn real_to_complex(v: &[f64], lmax: usize) -> Vec<Complex64> {
+    let mut c = vec![Complex64::default(); v.len()];
+    for l in 0..=lmax {
+        c[lm_index(l, 0)] = Complex64::new(v[lm_index(l, 0)], 0.0);
+        for mu in 1..=l as i64 {
+            let (a, b) = (v[lm_index(l, mu)], v[lm_index(l, -mu)]);
+            let z = Complex64::new(a, -b) * FRAC_1_SQRT_2;
+            c[lm_index(l, mu)] = z;
+            c[lm_index(l, -mu)] = z.conj() * parity(mu);
+        }
+    }
+    c
+}
+
+/// One term of the spin 2-to-2 block: `P~iso[jo][ji] += value * c[lm]`.
+#[derive(Clone, Copy, Debug)]
+struct SpinEntry {
+    jo: u32,
+    ji: u32,
+    lm: u32,
+    value: f64,
+}
+
+/// Precomputed couplings for visibilities of degree `<= lv` and transfer matrices of band
+/// limit `lmax`: build once, then [`TripleTable::transfer`] costs one pass over the
+/// nonzero couplings.
+#[derive(Clone, Debug)]
+pub struct TripleTable {
+    lv: usize,
+    lmax: usize,
+    scalar: GauntTable,
+    spin: Vec<SpinEntry>,
+}
+
+impl TripleTable {
+    /// The couplings of PSH (55) (real Gaunt table) and PSH (56) (closed form (T5) of
+    /// `proofs/triple-products.md`). Errors: `lv` or `lmax` beyond the Gaunt table limit
+    /// ([`crate::sh::gaunt::MAX_TABLE_DEGREE`]).
+    pub fn new(lv: usize, lmax: usize) -> Result<Self> {
+        check_lmax(lmax)?;
+        let scalar = GauntTable::new(GauntBasis::Real, lv, lmax, lmax)?;
+        let mut spin = Vec::new();
+        let (mut row_m, mut row_s) = (Vec::new(), Vec::new());
+        for lo in 2..=lmax {
+            for l in 0..=lv {
+                // (lo l li; 2 0 -2) for li = smin..=lo+l.
+                let smin = wigner_3j_row_into(lo, l, 2, 0, &mut row_s)?;
+                for mo in -(lo as i64)..=lo as i64 {
+                    let jo = lm_index(lo, mo) as u32;
+                    let sign = parity(mo);
+                    for m in -(l as i64)..=l as i64 {
+                        let mi = mo - m;
+                        // (lo l li; -mo m mi) for li = mmin..=lo+l.
+                        let mmin = wigner_3j_row_into(lo, l, -mo, m, &mut row_m)?;
+                        let first = mmin.max(smin).max(2).max(mi.unsigned_abs() as usize);
+                        for li in first..=lmax.min(lo + l) {
+                            let value =
+                                sign * prefactor(lo, l, li) * row_m[li - mmin] * row_s[li - smin];
+                            if value != 0.0 {
+                                spin.push(SpinEntry {
+                                    jo,
+                                    ji: lm_index(li, mi) as u32,
+                                    lm: lm_index(l, m) as u32,
+                                    value,
+                                });
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        Ok(Self {
+            lv,
+            lmax,
+            scalar,
+            spin,
+        })
+    }
+
+    /// Degree limit of the visibility.
+    pub fn lv(&self) -> usize {
+        self.lv
+    }
+
+    /// Band limit of the transfer matrices.
+    pub fn lmax(&self) -> usize {
+        self.lmax
+    }
+
+    /// The PSH matrix of `f -> V f` (PSH (54)) for `V = sum v_{lm} Y^R_{lm}`, `l <= lv`,
+    /// flat order `l*l + l + m`. Errors: wrong length, non-finite `v`.
+    pub fn transfer(&self, v: &[f64]) -> Result<PshMatrix> {
+        check_len("visibility coefficients", num_coeffs(self.lv), v.len())?;
+        if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+            return Err(Error::NonFinite {
+                name: "visibility coefficient",
+                value: *x,
+            });
+        }
+        let n = num_coeffs(self.lmax);
+        let mut data = vec![0.0; n * n * 16];
+        // PSH (55): the real Gaunt product matrix, on the diagonal p_o = p_i in {0, 3}.
+        let s = self.scalar.product_matrix(v)?;
+        for (k, &x) in s.iter().enumerate() {
+            let base = k * 16;
+            data[base] = x;
+            data[base + 15] = x;
+        }
+        // PSH (56) with (51a): the 2x2 block R(P~iso) = [[Re, -Im], [Im, Re]].
+        let c = real_to_complex(v, self.lv);
+        let mut iso = vec![Complex64::default(); n * n];
+        for e in &self.spin {
+            iso[e.jo as usize * n + e.ji as usize] += c[e.lm as usize] * e.value;
+        }
+        for (k, z) in iso.iter().enumerate() {
+            let base = k * 16;
+            data[base + 5] = z.re;
+            data[base + 6] = -z.im;
+            data[base + 9] = z.im;
+            data[base + 10] = z.re;
+        }
+        PshMatrix::from_data(self.lmax, data)
+    }
+}
+
+/// The PSH matrix of the shadowing operator `f -> V f` (PSH (54)-(56)) for the visibility
+/// `V = sum v_{lm} Y^R_{lm}` (real SH, PSH (12), `l <= lv`), band limit `lmax`. For many
+/// visibilities build a [`TripleTable`] once.
+pub fn visibility_transfer(v: &[f64], lv: usize, lmax: usize) -> Result<PshMatrix> {
+    check_len("visibility coefficients", num_coeffs(lv), v.len())?;
+    if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+        return Err(Error::NonFinite {
+            name: "visibility coefficient",
+            value: *x,
+        });
+    }
+    TripleTable::new(lv, lmax)?.transfer(v)
+}
+
+/// Direct evaluation of PSH (54) on an exact grid, for tests and `psh verify`:
+/// `sum_a w_a <Y_{j_o p_o}(w_a), V(w_a) Y_{j_i p_i}(w_a)>` for every pair of basis functions,
+/// with the basis fields reconstructed by [`super::PshTransform`] (PSH (30)).
+pub fn visibility_transfer_quadrature(v: &[f64], lv: usize, lmax: usize) -> Result<PshMatrix> {
+    use super::{Codomain, PshTransform, PshVector};
+    check_len("visibility coefficients", num_coeffs(lv), v.len())?;
+    // Integrand degree lo + lv + li <= 2 lmax + lv: exact for 2 L >= 2 lmax + lv.
+    let big = lmax + lv / 2 + 1;
+    let t = PshTransform::new(big.max(2))?;
+    let big = t.lmax();
+    let (nb, n) = (num_coeffs(big), num_coeffs(lmax));
+    let grid = t.grid();
+    let mut vpad = vec![0.0; nb];
+    vpad[..v.len()].copy_from_slice(v);
+    let mut vis = vec![0.0; grid.len()];
+    crate::sh::transform::ShTransform::with_grid(big, grid.clone())?
+        .synthesis_real(&vpad, &mut vis)?;
+    // fields[j * 4 + p][a]: basis function Y_{jp} at grid point a (zero outside PSH (31)).
+    let mut fields = Vec::with_capacity(n * 4);
+    for j in 0..n {
+        for p in 0..4 {
+            let mut data = vec![0.0; nb * 4];
+            if !(j < 4 && (p == 1 || p == 2)) {
+                data[j * 4 + p] = 1.0;
+            }
+            let b = PshVector::from_data(big, Codomain::Full, 1, data)?;
+            fields.push(t.reconstruct(&b, 0)?);
+        }
+    }
+    let mut data = vec![0.0; n * n * 16];
+    for (o, fo) in fields.iter().enumerate() {
+        for (i, fi) in fields.iter().enumerate() {
+            let mut sum = 0.0;
+            for (a, (so, si)) in fo.iter().zip(fi).enumerate() {
+                let dot: f64 = (0..4).map(|p| so[p] * si[p]).sum();
+                sum += grid.point_weight(a) * vis[a] * dot;
+            }
+            let (jo, po, ji, pi) = (o / 4, o % 4, i / 4, i % 4);
+            data[((jo * n + ji) * 4 + po) * 4 + pi] = sum;
+        }
+    }
+    PshMatrix::from_data(lmax, data)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sh::harmonics::sh_complex;
+    use crate::sh::lm_of_index;
+    use crate::swsh::swsh;
+    use crate::verify::pseudo_random;
+
+    fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+        a.iter()
+            .zip(b)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+    }
+
+    /// (T3) against quadrature with psh's own `2Y` and `Y` on an exact grid.
+    #[test]
+    fn spin2_gaunt_matches_quadrature() {
+        let (lmax, lv) = (4usize, 3usize);
+        let g = crate::sh::grid::SphereGrid::for_band_limit(lmax + lv).unwrap();
+        let pts: Vec<_> = (0..g.len())
+            .map(|a| {
+                let (t, p) = g.angles(a).unwrap();
+                (
+                    g.point_weight(a),
+                    swsh(2, lmax, t, p).unwrap(),
+                    sh_complex(lv, t, p).unwrap(),
+                )
+            })
+            .collect();
+        let mut worst = 0.0f64;
+        for jo in 4..num_coeffs(lmax) {
+            for ji in 4..num_coeffs(lmax) {
+                for j in 0..num_coeffs(lv) {
+                    let ((lo, mo), (li, mi), (l, m)) =
+                        (lm_of_index(jo), lm_of_index(ji), lm_of_index(j));
+                    let q: Complex64 = pts
+                        .iter()
+                        .map(|(w, y2, y)| y2[jo].conj() * y[j] * y2[ji] * *w)
+                        .sum();
+                    let e = spin2_gaunt(lo, mo, l, m, li, mi).unwrap();
+                    worst = worst.max((q - e).norm());
+                }
+            }
+        }
+        assert!(worst < 1e-14, "{worst}");
+        // An odd lo + l + li, where (lo l li; -2 0 2) would flip the sign:
+        // (2 1 2; -2 0 2) = -(2 1 2; 2 0 -2) = 2/sqrt(30) (DLMF 34.3.2 with 34.3.9-34.3.10).
+        let e = -(75.0 / (4.0 * PI)).sqrt() * 4.0 / 30.0;
+        assert!((spin2_gaunt(2, 2, 1, 0, 2, 2).unwrap() - e).abs() < 1e-15);
+        assert!(spin2_gaunt(2, 3, 1, 0, 2, 3).is_err());
+    }
+
+    /// PSH (54) by quadrature vs the triple products, random band-limited visibilities.
+    #[test]
+    fn transfer_equals_quadrature_of_54() {
+        for (lv, lmax, seed) in [(3usize, 3usize, 5u64), (5, 4, 7), (2, 5, 11)] {
+            let v = pseudo_random(num_coeffs(lv), seed);
+            let a = visibility_transfer(&v, lv, lmax).unwrap();
+            let b = visibility_transfer_quadrature(&v, lv, lmax).unwrap();
+            let d = max_diff(a.data(), b.data());
+            assert!(d <= 1e-12, "lv {lv} lmax {lmax}: {d}");
+        }
+    }
+
+    /// A constant visibility `V = 1` (`v_00 = sqrt(4 pi)`) is the identity.
+    #[test]
+    fn unit_visibility_is_identity() {
+        let lmax = 4;
+        let mut v = vec![0.0; num_coeffs(2)];
+        v[0] = (4.0 * PI).sqrt();
+        let m = visibility_transfer(&v, 2, lmax).unwrap();
+        let n = num_coeffs(lmax);
+        for jo in 0..n {
+            for ji in 0..n {
+                for po in 0..4 {
+                    for pi in 0..4 {
+                        let on = jo == ji && po == pi && !(jo < 4 && (po == 1 || po == 2));
+                        let e = if on { 1.0 } else { 0.0 };
+                        assert!((m.get(jo, ji, po, pi) - e).abs() < 1e-14);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn table_reuse_and_bad_input() {
+        let t = TripleTable::new(3, 3).unwrap();
+        let v = pseudo_random(16, 3);
+        assert_eq!(
+            t.transfer(&v).unwrap(),
+            visibility_transfer(&v, 3, 3).unwrap()
+        );
+        assert!(matches!(
+            t.transfer(&v[..15]),
+            Err(Error::LengthMismatch { .. })
+        ));
+        let mut bad = v.clone();
+        bad[7] = f64::NAN;
+        let e = visibility_transfer(&bad, 3, 3).unwrap_err();
+        assert!(e.to_string().contains("visibility coefficient"), "{e}");
+        assert!(TripleTable::new(40, 3).is_err());
+    }
+}
