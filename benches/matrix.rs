@@ -3,6 +3,7 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use psh::optics::PolarizedPlastic;
 use psh::polarized::{project_operator, Codomain, IsotropicMatrix, SpinBlock22};
+use psh::sh::wigner::rotation_from_rotvec;
 use psh::verify::random_psh;
 
 /// Project an isotropic pBRDF (polarized plastic) to a sparse PSH matrix of l < 5 and
@@ -37,5 +38,19 @@ fn apply_sparse(c: &mut Criterion) {
     grp.finish();
 }
 
-criterion_group!(benches, project_isotropic, apply_sparse);
+/// Rotate the (dense) PSH matrix of l < 10 of an isotropic pBRDF to a surface normal.
+fn rotate_to_normal(c: &mut Criterion) {
+    let plastic = PolarizedPlastic::new(0.3, 1.5, 0.5).unwrap();
+    let m = project_operator(&plastic, 9, 9, SpinBlock22::ComplexPair).unwrap();
+    // The rotation taking +z to the normal (0.48, -0.6, 0.64): axis z x n, angle acos 0.64.
+    let r = rotation_from_rotvec([0.684608, 0.547686, 0.0]).unwrap();
+    let mut grp = c.benchmark_group("psh_matrix");
+    grp.sample_size(20);
+    grp.bench_function("rotate_to_normal/10", |b| {
+        b.iter(|| m.rotated(black_box(&r)).unwrap())
+    });
+    grp.finish();
+}
+
+criterion_group!(benches, project_isotropic, apply_sparse, rotate_to_normal);
 criterion_main!(benches);

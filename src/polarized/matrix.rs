@@ -310,6 +310,59 @@ impl MuellerField for MatrixKernel<'_> {
     }
 }
 
+impl PshMatrix {
+    /// The operator rotated by `r`, `P'(w_i, w_o) = R_M[P(R^-1 w_i, R^-1 w_o)]` (PSH (59)):
+    /// `D P D^T` with `D` the PSH rotation (PSH (35)-(37)), orthogonal on real coefficients
+    /// (e.g. a pBRDF in its shading frame turned to a surface normal). `O(lmax^5)`.
+    pub fn rotated(&self, r: &nalgebra::Rotation3<f64>) -> Result<PshMatrix> {
+        let n = num_coeffs(self.lmax);
+        let rot = super::PshRotation::new(r, self.lmax)?;
+        // Columns (j_i, p_i) as channels of a coefficient vector: data [j_i p_i][j_o][p_o].
+        let transpose = |d: &[f64]| -> Vec<f64> {
+            let mut t = vec![0.0; d.len()];
+            for a in 0..n * 4 {
+                for b in 0..n * 4 {
+                    t[a * n * 4 + b] = d[b * n * 4 + a];
+                }
+            }
+            t
+        };
+        // data[(j_o 4 + p_o) 4n + (j_i 4 + p_i)]: row-major over (j_o p_o), (j_i p_i).
+        let as_rows = |d: &[f64]| -> Vec<f64> {
+            let mut t = vec![0.0; d.len()];
+            for jo in 0..n {
+                for ji in 0..n {
+                    for po in 0..4 {
+                        for pi in 0..4 {
+                            t[(jo * 4 + po) * n * 4 + ji * 4 + pi] =
+                                d[((jo * n + ji) * 4 + po) * 4 + pi];
+                        }
+                    }
+                }
+            }
+            t
+        };
+        let rotate_columns = |d: Vec<f64>| -> Result<Vec<f64>> {
+            let cols = PshVector::from_data(self.lmax, Codomain::Full, n * 4, transpose(&d))?;
+            Ok(transpose(rot.rotate(&cols)?.data()))
+        };
+        let dp = rotate_columns(as_rows(&self.data))?;
+        let dpdt = transpose(&rotate_columns(transpose(&dp))?);
+        let mut out = vec![0.0; self.data.len()];
+        for jo in 0..n {
+            for ji in 0..n {
+                for po in 0..4 {
+                    for pi in 0..4 {
+                        out[((jo * n + ji) * 4 + po) * 4 + pi] =
+                            dpdt[(jo * 4 + po) * n * 4 + ji * 4 + pi];
+                    }
+                }
+            }
+        }
+        PshMatrix::from_data(self.lmax, out)
+    }
+}
+
 /// PSH (41) channel by channel: `product(x, out)` gets the input coefficients
 /// `x[j] = [f_j0, f_j1, f_j2, f_j3]` (zero outside `f`'s codomain) and fills
 /// `out[j * 4 + p]`. Error: `f` of another band limit than `lmax`.

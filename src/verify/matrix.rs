@@ -40,7 +40,41 @@ pub fn checks() -> Vec<Check> {
             proof: None,
             run: isotropic_sparsity,
         },
+        Check {
+            id: "matrix.rotation_to_normal",
+            source: "PSH (59), (35)-(37)",
+            description: "rotated coefficient matrix D P D^T vs the projection of the rotated Mueller field R_M[P(R^-1 w_i, R^-1 w_o)], band-limited P, L = 3 (relative)",
+            tolerance: 1e-12,
+            proof: Some("proofs/psh-rotation.md"),
+            run: rotation_to_normal,
+        },
     ]
+}
+
+/// `R_M[P(R^-1 w_i, R^-1 w_o)]` (PSH (59)).
+struct Rotated<'a, F>(&'a F, nalgebra::Rotation3<f64>);
+
+impl<F: MuellerField> MuellerField for Rotated<'_, F> {
+    fn transform(&self, wi: [f64; 3], wo: [f64; 3]) -> Result<crate::stokes::MuellerTransform> {
+        let back = |w: [f64; 3]| {
+            let v = self.1.inverse() * nalgebra::Vector3::from(w);
+            [v.x, v.y, v.z]
+        };
+        self.0.transform(back(wi), back(wo))?.rotate(&self.1)
+    }
+}
+
+fn rotation_to_normal() -> Result<f64> {
+    let m = random_psh_matrix(3, 89)?;
+    let r = crate::sh::wigner::rotation_from_rotvec([0.4, -1.3, 0.8])?;
+    let rotated = m.rotated(&r)?;
+    let direct = project_operator(
+        &Rotated(&MatrixKernel(&m), r),
+        3,
+        3,
+        SpinBlock22::ComplexPair,
+    )?;
+    Ok(max_diff(rotated.data(), direct.data()) / max_abs(direct.data()))
 }
 
 fn isotropic_sparsity() -> Result<f64> {
