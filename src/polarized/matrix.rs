@@ -317,7 +317,7 @@ impl PshMatrix {
     pub fn rotated(&self, r: &nalgebra::Rotation3<f64>) -> Result<PshMatrix> {
         let n = num_coeffs(self.lmax);
         let rot = super::PshRotation::new(r, self.lmax)?;
-        // Columns (j_i, p_i) as channels of a coefficient vector: data [j_i p_i][j_o][p_o].
+        // Square transpose of a row-major (4n x 4n) array.
         let transpose = |d: &[f64]| -> Vec<f64> {
             let mut t = vec![0.0; d.len()];
             for a in 0..n * 4 {
@@ -327,39 +327,57 @@ impl PshMatrix {
             }
             t
         };
-        // data[(j_o 4 + p_o) 4n + (j_i 4 + p_i)]: row-major over (j_o p_o), (j_i p_i).
-        let as_rows = |d: &[f64]| -> Vec<f64> {
-            let mut t = vec![0.0; d.len()];
-            for jo in 0..n {
-                for ji in 0..n {
-                    for po in 0..4 {
-                        for pi in 0..4 {
-                            t[(jo * 4 + po) * n * 4 + ji * 4 + pi] =
-                                d[((jo * n + ji) * 4 + po) * 4 + pi];
-                        }
-                    }
-                }
-            }
-            t
-        };
+        // Columns (j_i, p_i) as channels of a coefficient vector.
         let rotate_columns = |d: Vec<f64>| -> Result<Vec<f64>> {
             let cols = PshVector::from_data(self.lmax, Codomain::Full, n * 4, transpose(&d))?;
             Ok(transpose(rot.rotate(&cols)?.data()))
         };
-        let dp = rotate_columns(as_rows(&self.data))?;
+        let dp = rotate_columns(self.rows())?;
         let dpdt = transpose(&rotate_columns(transpose(&dp))?);
-        let mut out = vec![0.0; self.data.len()];
+        Self::from_rows(self.lmax, &dpdt)
+    }
+
+    /// `P T` for `T` the travel-direction map on the input side
+    /// ([`PshVector::travel_convention`]): the matrix of the same operator when its input
+    /// field is indexed by the direction of travel, polarsh's convention (an involution;
+    /// `T` is symmetric, so `P T = (T P^T)^T`).
+    pub fn travel_input(&self) -> Result<PshMatrix> {
+        let n = num_coeffs(self.lmax);
+        let rows = PshVector::from_data(self.lmax, Codomain::Full, n * 4, self.rows())?;
+        Self::from_rows(self.lmax, rows.travel_convention().data())
+    }
+
+    /// The entries row-major over `(j_o p_o)` then `(j_i p_i)`.
+    fn rows(&self) -> Vec<f64> {
+        let n = num_coeffs(self.lmax);
+        let mut t = vec![0.0; self.data.len()];
+        for jo in 0..n {
+            for ji in 0..n {
+                for po in 0..4 {
+                    for pi in 0..4 {
+                        t[(jo * 4 + po) * n * 4 + ji * 4 + pi] = self.get(jo, ji, po, pi);
+                    }
+                }
+            }
+        }
+        t
+    }
+
+    /// The inverse of [`Self::rows`].
+    fn from_rows(lmax: usize, rows: &[f64]) -> Result<PshMatrix> {
+        let n = num_coeffs(lmax);
+        let mut out = vec![0.0; rows.len()];
         for jo in 0..n {
             for ji in 0..n {
                 for po in 0..4 {
                     for pi in 0..4 {
                         out[((jo * n + ji) * 4 + po) * 4 + pi] =
-                            dpdt[(jo * 4 + po) * n * 4 + ji * 4 + pi];
+                            rows[(jo * 4 + po) * n * 4 + ji * 4 + pi];
                     }
                 }
             }
         }
-        PshMatrix::from_data(self.lmax, out)
+        PshMatrix::from_data(lmax, out)
     }
 }
 
@@ -418,5 +436,24 @@ mod tests {
         bad[16] = 1.0; // (j_o, j_i) = (0, 1), p_o = p_i = 0: allowed
         bad[1] = 1.0; // (0, 0), p_i = 1: outside PSH (31)
         assert!(PshMatrix::from_data(3, bad).is_err());
+    }
+
+    /// `P T` applied to `T f` is `P f` (T an involution), and `travel_input` is one too.
+    #[test]
+    fn travel_input_composes_with_the_vector_map() {
+        let m = crate::verify::random_psh_matrix(4, 7).unwrap();
+        let f = crate::verify::random_psh(4, Codomain::Full, 2, 8).unwrap();
+        let pt = m.travel_input().unwrap();
+        let (a, b) = (
+            pt.apply(&f.travel_convention()).unwrap(),
+            m.apply(&f).unwrap(),
+        );
+        let err = a
+            .data()
+            .iter()
+            .zip(b.data())
+            .fold(0.0f64, |x, (p, q)| x.max((p - q).abs()));
+        assert!(err < 1e-13, "{err}");
+        assert_eq!(pt.travel_input().unwrap(), m);
     }
 }
