@@ -1,38 +1,59 @@
-//! PSH coefficient vectors as polarsh-compatible `.npz`: keys `cod_type` (`"POLAR2"`,
-//! `"POLAR3"`, `"POLAR4"`), `sh_type` (`"REAL"`) and `coeff` (`float64`, shape
-//! `[channels, (lmax+1)^2, p]`, flat index `l*l + l + m`). The file's coefficients are in
-//! polarsh's travel-direction convention; reading and writing apply
-//! [`PshVector::travel_convention`], so that in memory a vector is in psh's.
+//! PSH coefficients as polarsh-compatible `.npz`.
+//!
+//! - Coefficient vectors: keys `cod_type` (`"POLAR2"`, `"POLAR3"`, `"POLAR4"`), `sh_type`
+//!   (`"REAL"`) and `coeff` (`float64`, shape `[channels, (lmax+1)^2, p]`, flat index
+//!   `l*l + l + m`).
+//! - Isotropic coefficient matrices (pBRDFs): keys `dom_type` (`"ISOBI2"`), `cod_type`
+//!   (`"POLAR4"`), `sh_type` (`"REAL"`) and `coeff` (`float64`, shape
+//!   `[channels, K, 4, 4]`, `K` the entries of the isotropic layout,
+//!   [`crate::polarized::isotropic_pairs`]).
+//!
+//! The files follow polarsh's travel-direction convention on the input side; reading and
+//! writing apply [`PshVector::travel_convention`] and
+//! [`IsotropicMatrix::travel_input`], so that in memory coefficients are in psh's.
 
 use super::{io_error, malformed};
 use crate::error::Result;
-use crate::polarized::{Codomain, PshVector};
+use crate::polarized::{isotropic_lmax, isotropic_pairs, Codomain, IsotropicMatrix, PshVector};
 use npyz::npz::{NpzArchive, NpzWriter};
 use npyz::WriterBuilder;
+use std::fs::File;
+use std::io::BufReader;
 use std::path::Path;
 
 /// The keys of a coefficient-vector file.
-const KEYS: [&str; 3] = ["cod_type", "sh_type", "coeff"];
+const VECTOR_KEYS: [&str; 3] = ["cod_type", "sh_type", "coeff"];
 
-/// Reads a coefficient vector. Errors name the file and the reason: unreadable, a key
-/// missing or unknown, an unknown `cod_type` or `sh_type`, a `coeff` that is not `float64`
-/// of shape `[channels, (L+1)^2, p]` matching the codomain, non-finite values, non-zero
-/// spin-2 coefficients below `l = 2`.
-pub fn read_psh_npz(path: impl AsRef<Path>) -> Result<PshVector> {
-    let path = path.as_ref();
-    let mut npz = NpzArchive::open(path).map_err(|e| match e.kind() {
-        std::io::ErrorKind::NotFound => io_error(path, e),
-        _ => malformed(path, format!("not an npz archive: {e}")),
-    })?;
-    let names: Vec<String> = npz.array_names().map(String::from).collect();
-    if let Some(k) = names.iter().find(|k| !KEYS.contains(&k.as_str())) {
-        return Err(malformed(
-            path,
-            format!("unknown key '{k}' (expected {KEYS:?})"),
-        ));
+/// The keys of an isotropic coefficient-matrix file.
+const MATRIX_KEYS: [&str; 4] = ["dom_type", "cod_type", "sh_type", "coeff"];
+
+/// An open archive with exactly the keys `keys`, and its path for errors.
+struct Archive<'a> {
+    path: &'a Path,
+    npz: NpzArchive<BufReader<File>>,
+}
+
+impl<'a> Archive<'a> {
+    /// Opens `path`. Errors: unreadable, not an npz, a key not in `keys`.
+    fn open(path: &'a Path, keys: &[&str]) -> Result<Self> {
+        let npz = NpzArchive::open(path).map_err(|e| match e.kind() {
+            std::io::ErrorKind::NotFound => io_error(path, e),
+            _ => malformed(path, format!("not an npz archive: {e}")),
+        })?;
+        if let Some(k) = npz.array_names().find(|k| !keys.contains(k)) {
+            return Err(malformed(
+                path,
+                format!("unknown key '{k}' (expected {keys:?})"),
+            ));
+        }
+        Ok(Self { path, npz })
     }
-    let mut text = |key: &str| -> Result<String> {
-        let arr = npz
+
+    /// The single string stored under `key`.
+    fn text(&mut self, key: &str) -> Result<String> {
+        let path = self.path;
+        let arr = self
+            .npz
             .by_name(key)
             .map_err(|e| malformed(path, format!("key '{key}': {e}")))?
             .ok_or_else(|| malformed(path, format!("missing key '{key}'")))?;
@@ -46,35 +67,63 @@ pub fn read_psh_npz(path: impl AsRef<Path>) -> Result<PshVector> {
                 format!("key '{key}' has {n} strings, not 1"),
             )),
         }
-    };
-    let cod = text("cod_type")?;
-    let sh = text("sh_type")?;
-    if sh != "REAL" {
-        return Err(malformed(
-            path,
-            format!("sh_type '{sh}' (psh reads real coefficient vectors, 'REAL')"),
-        ));
     }
-    let codomain = Codomain::from_name(&cod).map_err(|e| malformed(path, e.to_string()))?;
-    let arr = npz
-        .by_name("coeff")
-        .map_err(|e| malformed(path, format!("key 'coeff': {e}")))?
-        .ok_or_else(|| malformed(path, "missing key 'coeff'"))?;
-    let shape = arr.shape().to_vec();
+
+    /// Checks that `sh_type` is `"REAL"` and returns the codomain of `cod_type`.
+    fn codomain(&mut self) -> Result<Codomain> {
+        let sh = self.text("sh_type")?;
+        if sh != "REAL" {
+            return Err(malformed(
+                self.path,
+                format!("sh_type '{sh}' (psh reads real coefficients, 'REAL')"),
+            ));
+        }
+        let cod = self.text("cod_type")?;
+        Codomain::from_name(&cod).map_err(|e| malformed(self.path, e.to_string()))
+    }
+
+    /// The `coeff` array: its shape and (after `check_shape` accepts the shape) its
+    /// `float64` values.
+    fn coeff(
+        &mut self,
+        check_shape: impl FnOnce(&[u64]) -> std::result::Result<(), String>,
+    ) -> Result<(Vec<u64>, Vec<f64>)> {
+        let path = self.path;
+        let arr = self
+            .npz
+            .by_name("coeff")
+            .map_err(|e| malformed(path, format!("key 'coeff': {e}")))?
+            .ok_or_else(|| malformed(path, "missing key 'coeff'"))?;
+        let shape = arr.shape().to_vec();
+        check_shape(&shape).map_err(|reason| malformed(path, reason))?;
+        let data = arr
+            .into_vec()
+            .map_err(|e| malformed(path, format!("coeff is not float64: {e}")))?;
+        Ok((shape, data))
+    }
+}
+
+/// Reads a coefficient vector. Errors name the file and the reason: unreadable, a key
+/// missing or unknown, an unknown `cod_type` or `sh_type`, a `coeff` that is not `float64`
+/// of shape `[channels, (L+1)^2, p]` matching the codomain, non-finite values, non-zero
+/// spin-2 coefficients below `l = 2`.
+pub fn read_psh_npz(path: impl AsRef<Path>) -> Result<PshVector> {
+    let path = path.as_ref();
+    let mut npz = Archive::open(path, &VECTOR_KEYS)?;
+    let codomain = npz.codomain()?;
     let np = codomain.components().len() as u64;
-    let ok_shape = shape.len() == 3 && shape[2] == np && shape[0] > 0 && {
-        let r = (shape[1] as f64).sqrt().round() as u64;
-        r >= 1 && r * r == shape[1]
-    };
-    if !ok_shape {
-        return Err(malformed(
-            path,
-            format!("coeff has shape {shape:?}, expected [channels, (lmax+1)^2, {np}] for {cod}"),
-        ));
-    }
-    let data: Vec<f64> = arr
-        .into_vec()
-        .map_err(|e| malformed(path, format!("coeff is not float64: {e}")))?;
+    let (shape, data) = npz.coeff(|shape| {
+        let ok = shape.len() == 3 && shape[2] == np && shape[0] > 0 && {
+            let r = (shape[1] as f64).sqrt().round() as u64;
+            r >= 1 && r * r == shape[1]
+        };
+        ok.then_some(()).ok_or_else(|| {
+            format!(
+                "coeff has shape {shape:?}, expected [channels, (lmax+1)^2, {np}] for {}",
+                codomain.name()
+            )
+        })
+    })?;
     let lmax = (shape[1] as f64).sqrt().round() as usize - 1;
     let v = PshVector::from_data(lmax, codomain, shape[0] as usize, data)
         .map_err(|e| malformed(path, e.to_string()))?;
@@ -85,10 +134,106 @@ pub fn read_psh_npz(path: impl AsRef<Path>) -> Result<PshVector> {
 /// `numpy.load` and polarsh).
 pub fn write_psh_npz(path: impl AsRef<Path>, v: &PshVector) -> Result<()> {
     let path = path.as_ref();
+    let n = crate::sh::num_coeffs(v.lmax()) as u64;
+    let np = v.codomain().components().len() as u64;
+    let shape = [v.channels() as u64, n, np];
+    let texts = [("cod_type", v.codomain().name()), ("sh_type", "REAL")];
+    write_archive(
+        path,
+        &texts,
+        &shape,
+        v.travel_convention().data().iter().copied(),
+    )
+}
+
+/// Reads the isotropic coefficient matrices of a pBRDF, one per channel, in psh's
+/// convention. Errors name the file and the reason: unreadable, a key missing or unknown,
+/// `dom_type` not `"ISOBI2"`, `cod_type` not `"POLAR4"`, `sh_type` not `"REAL"`, a `coeff`
+/// that is not `float64` of shape `[channels, K, 4, 4]` with `K` an isotropic layout's
+/// size, non-finite values, non-zero spin-2 entries below `l = 2`.
+pub fn read_isotropic_npz(path: impl AsRef<Path>) -> Result<Vec<IsotropicMatrix>> {
+    let path = path.as_ref();
+    let mut npz = Archive::open(path, &MATRIX_KEYS)?;
+    let dom = npz.text("dom_type")?;
+    if dom != "ISOBI2" {
+        return Err(malformed(
+            path,
+            format!("dom_type '{dom}' (psh reads isotropic matrices, 'ISOBI2')"),
+        ));
+    }
+    let codomain = npz.codomain()?;
+    if codomain != Codomain::Full {
+        return Err(malformed(
+            path,
+            format!("cod_type '{}' (matrices are 'POLAR4')", codomain.name()),
+        ));
+    }
+    let mut lmax = 0;
+    let (shape, data) = npz.coeff(|shape| {
+        let found = (shape.len() == 4 && shape[0] > 0 && shape[2..] == [4, 4])
+            .then(|| isotropic_lmax(shape[1] as usize))
+            .flatten();
+        lmax = found.ok_or_else(|| {
+            format!(
+                "coeff has shape {shape:?}, expected [channels, K, 4, 4] with K the size                  of an isotropic layout (1, 8, 29, ..., 10280 for l < 20)"
+            )
+        })?;
+        Ok(())
+    })?;
+    let per_channel = data.len() / shape[0] as usize;
+    data.chunks_exact(per_channel)
+        .map(|blocks| {
+            IsotropicMatrix::from_blocks(lmax, blocks)
+                .and_then(|m| m.travel_input())
+                .map_err(|e| malformed(path, e.to_string()))
+        })
+        .collect()
+}
+
+/// Writes isotropic coefficient matrices (one per channel, of one band limit) in polarsh's
+/// `ISOBI2` layout and convention. Error: no matrices, or band limits that differ.
+pub fn write_isotropic_npz(path: impl AsRef<Path>, channels: &[IsotropicMatrix]) -> Result<()> {
+    let path = path.as_ref();
+    let lmax = channels
+        .first()
+        .map(|m| m.lmax())
+        .ok_or_else(|| crate::Error::InvalidArgument {
+            name: "isotropic matrices",
+            value: "[]".into(),
+            reason: "at least one channel to write".into(),
+        })?;
+    if let Some((c, m)) = channels.iter().enumerate().find(|(_, m)| m.lmax() != lmax) {
+        return Err(crate::Error::InvalidArgument {
+            name: "isotropic matrix",
+            value: format!("channel {c}: lmax {}", m.lmax()),
+            reason: format!("channel 0 has lmax {lmax}"),
+        });
+    }
+    let mut data = Vec::new();
+    for m in channels {
+        data.extend(m.travel_input()?.blocks());
+    }
+    let k = isotropic_pairs(lmax).len() as u64;
+    let texts = [
+        ("dom_type", "ISOBI2"),
+        ("cod_type", Codomain::Full.name()),
+        ("sh_type", "REAL"),
+    ];
+    write_archive(path, &texts, &[channels.len() as u64, k, 4, 4], data)
+}
+
+/// Writes scalar strings `texts` and the `float64` array `coeff` of `shape` (numpy
+/// `<U*` and `<f8`, as polarsh writes them).
+fn write_archive(
+    path: &Path,
+    texts: &[(&str, &str)],
+    shape: &[u64],
+    coeff: impl IntoIterator<Item = f64>,
+) -> Result<()> {
     let err = |e: std::io::Error| io_error(path, e);
     let mut npz = NpzWriter::create(path).map_err(err)?;
     let opts = || npyz::zip::write::FileOptions::default();
-    for (key, value) in [("cod_type", v.codomain().name()), ("sh_type", "REAL")] {
+    for &(key, value) in texts {
         let dtype = npyz::DType::Plain(
             format!("<U{}", value.chars().count())
                 .parse()
@@ -104,17 +249,14 @@ pub fn write_psh_npz(path: impl AsRef<Path>, v: &PshVector) -> Result<()> {
         w.push(value).map_err(err)?;
         w.finish().map_err(err)?;
     }
-    let t = v.travel_convention();
-    let np = v.codomain().components().len() as u64;
-    let n = crate::sh::num_coeffs(v.lmax()) as u64;
     let mut w = npz
         .array::<f64>("coeff", opts())
         .map_err(err)?
         .default_dtype()
-        .shape(&[v.channels() as u64, n, np])
+        .shape(shape)
         .begin_nd()
         .map_err(err)?;
-    w.extend(t.data().iter().copied()).map_err(err)?;
+    w.extend(coeff).map_err(err)?;
     w.finish().map_err(err)
 }
 
@@ -153,42 +295,28 @@ mod tests {
         }
     }
 
+    /// An npz with scalar strings `keys` and a `float64` `coeff` of `shape`.
+    fn write_raw(
+        name: &str,
+        keys: &[(&str, &str)],
+        shape: &[u64],
+        data: &[f64],
+    ) -> std::path::PathBuf {
+        let path = tmp(name);
+        let texts: Vec<(&str, &str)> = keys.to_vec();
+        write_archive(&path, &texts, shape, data.iter().copied()).unwrap();
+        path
+    }
+
     /// Unknown keys, wrong shapes, unknown types, non-npz files: errors with the path.
     #[test]
     fn bad_files_are_errors_naming_the_file() {
         let v = crate::verify::random_psh(2, Codomain::Full, 1, 13).unwrap();
-        let write = |name: &str, keys: &[(&str, &str)], shape: &[u64], data: &[f64]| {
-            let path = tmp(name);
-            let mut npz = NpzWriter::create(&path).unwrap();
-            for (k, s) in keys {
-                let mut w = npz
-                    .array::<str>(k, Default::default())
-                    .unwrap()
-                    .dtype(npyz::DType::Plain(
-                        format!("<U{}", s.len()).parse().unwrap(),
-                    ))
-                    .shape(&[])
-                    .begin_nd()
-                    .unwrap();
-                w.push(s).unwrap();
-                w.finish().unwrap();
-            }
-            let mut w = npz
-                .array::<f64>("coeff", Default::default())
-                .unwrap()
-                .default_dtype()
-                .shape(shape)
-                .begin_nd()
-                .unwrap();
-            w.extend(data.iter().copied()).unwrap();
-            w.finish().unwrap();
-            path
-        };
         let good = [("cod_type", "POLAR4"), ("sh_type", "REAL")];
         let d = v.data();
         let cases = [
             (
-                write(
+                write_raw(
                     "extra.npz",
                     &[good[0], good[1], ("dom_type", "ISOBI2")],
                     &[1, 9, 4],
@@ -197,23 +325,23 @@ mod tests {
                 "unknown key 'dom_type'",
             ),
             (
-                write("nocod.npz", &[good[1]], &[1, 9, 4], d),
+                write_raw("nocod.npz", &[good[1]], &[1, 9, 4], d),
                 "missing key 'cod_type'",
             ),
             (
-                write("shape.npz", &good, &[1, 8, 4], &d[..32]),
+                write_raw("shape.npz", &good, &[1, 8, 4], &d[..32]),
                 "shape [1, 8, 4]",
             ),
             (
-                write("p.npz", &[("cod_type", "POLAR3"), good[1]], &[1, 9, 4], d),
+                write_raw("p.npz", &[("cod_type", "POLAR3"), good[1]], &[1, 9, 4], d),
                 "shape [1, 9, 4]",
             ),
             (
-                write("sh.npz", &[good[0], ("sh_type", "COMPLEX")], &[1, 9, 4], d),
+                write_raw("sh.npz", &[good[0], ("sh_type", "COMPLEX")], &[1, 9, 4], d),
                 "sh_type 'COMPLEX'",
             ),
             (
-                write("cod.npz", &[("cod_type", "POLAR9"), good[1]], &[1, 9, 4], d),
+                write_raw("cod.npz", &[("cod_type", "POLAR9"), good[1]], &[1, 9, 4], d),
                 "POLAR9",
             ),
         ];
@@ -230,5 +358,111 @@ mod tests {
         assert!(e.contains("junk.npz") && e.contains("not an npz"), "{e}");
         let e = read_psh_npz(tmp("absent.npz")).unwrap_err().to_string();
         assert!(e.contains("absent.npz"), "{e}");
+    }
+
+    /// Matrices: write then read gives the same matrices; the file holds polarsh's
+    /// convention (`travel_input`), with polarsh's header.
+    #[test]
+    fn isotropic_round_trip_in_polarsh_convention() {
+        let mats: Vec<IsotropicMatrix> = (0..2)
+            .map(|c| {
+                let k = isotropic_pairs(3).len();
+                let data: Vec<f64> = (0..k * 16)
+                    .map(|i| {
+                        let (jo, ji) = isotropic_pairs(3)[i / 16];
+                        let (po, pi) = ((i / 4) % 4, i % 4);
+                        let spin2_low =
+                            (jo < 4 && (po == 1 || po == 2)) || (ji < 4 && (pi == 1 || pi == 2));
+                        if spin2_low {
+                            0.0
+                        } else {
+                            ((i * 31 + c * 17) % 101) as f64 / 50.0 - 1.0
+                        }
+                    })
+                    .collect();
+                IsotropicMatrix::from_blocks(3, &data).unwrap()
+            })
+            .collect();
+        let path = tmp("iso.npz");
+        write_isotropic_npz(&path, &mats).unwrap();
+        assert_eq!(read_isotropic_npz(&path).unwrap(), mats);
+        let mut npz = NpzArchive::open(&path).unwrap();
+        let arr = npz.by_name("coeff").unwrap().unwrap();
+        assert_eq!(arr.shape(), &[2, isotropic_pairs(3).len() as u64, 4, 4]);
+        let raw: Vec<f64> = arr.into_vec().unwrap();
+        let want: Vec<f64> = mats
+            .iter()
+            .flat_map(|m| m.travel_input().unwrap().blocks())
+            .collect();
+        assert_eq!(raw, want);
+        let d: Vec<String> = npz
+            .by_name("dom_type")
+            .unwrap()
+            .unwrap()
+            .into_vec()
+            .unwrap();
+        assert_eq!(d, ["ISOBI2"]);
+        let e = write_isotropic_npz(tmp("none.npz"), &[]).unwrap_err();
+        assert!(e.to_string().contains("at least one"), "{e}");
+    }
+
+    /// Bad matrix files: errors naming the file and the reason.
+    #[test]
+    fn bad_matrix_files_are_errors_naming_the_file() {
+        let k = isotropic_pairs(1).len() as u64; // 8
+        let good = [
+            ("dom_type", "ISOBI2"),
+            ("cod_type", "POLAR4"),
+            ("sh_type", "REAL"),
+        ];
+        let zeros = vec![0.0; 16 * 9];
+        let mut nan = vec![0.0; 16 * 8];
+        nan[5] = f64::NAN;
+        let mut low_spin2 = vec![0.0; 16 * 8];
+        low_spin2[1] = 1.0; // block 0 = (l_o, l_i) = (0, 0), p_i = 1
+        let cases = [
+            (
+                write_raw(
+                    "dom.npz",
+                    &[("dom_type", "DENSE"), good[1], good[2]],
+                    &[1, k, 4, 4],
+                    &zeros[..128],
+                ),
+                "dom_type 'DENSE'",
+            ),
+            (
+                write_raw(
+                    "cod3.npz",
+                    &[good[0], ("cod_type", "POLAR3"), good[2]],
+                    &[1, k, 4, 4],
+                    &zeros[..128],
+                ),
+                "cod_type 'POLAR3'",
+            ),
+            (
+                write_raw("nodom.npz", &good[1..], &[1, k, 4, 4], &zeros[..128]),
+                "missing key 'dom_type'",
+            ),
+            (
+                write_raw("k9.npz", &good, &[1, 9, 4, 4], &zeros),
+                "shape [1, 9, 4, 4]",
+            ),
+            (
+                write_raw("vec.npz", &good, &[1, 9, 16], &zeros),
+                "shape [1, 9, 16]",
+            ),
+            (write_raw("nan.npz", &good, &[1, k, 4, 4], &nan), "NaN"),
+            (
+                write_raw("low.npz", &good, &[1, k, 4, 4], &low_spin2),
+                "spin-2",
+            ),
+        ];
+        for (path, what) in cases {
+            let e = read_isotropic_npz(&path).unwrap_err().to_string();
+            assert!(
+                e.contains(path.to_str().unwrap()) && e.contains(what),
+                "{e}"
+            );
+        }
     }
 }

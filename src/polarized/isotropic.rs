@@ -45,6 +45,22 @@ pub fn isotropic_pairs(lmax: usize) -> Vec<(usize, usize)> {
     out
 }
 
+/// The band limit whose isotropic layout has `k` entries, if any: pair `(l_o, l_i)` has
+/// `4 min(l_o, l_i) + 1` entries (one `m_i` for `m_o = 0`, two otherwise).
+pub fn isotropic_lmax(k: usize) -> Option<usize> {
+    let mut total = 0;
+    for lmax in 0..=crate::sh::MAX_DEGREE {
+        // Shell `lmax` adds the pairs with max(l_o, l_i) = lmax.
+        total += 4 * lmax + 1 + (0..lmax).map(|l| 2 * (4 * l + 1)).sum::<usize>();
+        match total.cmp(&k) {
+            std::cmp::Ordering::Equal => return Some(lmax),
+            std::cmp::Ordering::Greater => return None,
+            std::cmp::Ordering::Less => {}
+        }
+    }
+    None
+}
+
 /// How far a coefficient matrix is from isotropy: the largest entry that PSH (52) or
 /// PSH (53) says is zero, relative to the largest entry.
 pub fn isotropy_defect(m: &PshMatrix) -> f64 {
@@ -165,6 +181,37 @@ impl IsotropicMatrix {
         PshMatrix::from_data(self.lmax, data)
     }
 
+    /// `P T` for `T` the travel-direction map on the input side, in the sparse layout:
+    /// the same as [`PshMatrix::travel_input`] of the dense matrix (polarsh's convention
+    /// to psh's and back; an involution). `T` maps column `(l, m, p)` to
+    /// `(-1)^l (l, m, 0)`, `-(-1)^l (l, m, 3)`, `(-1)^(l+m) (l, -m, 1)`,
+    /// `-(-1)^(l+m) (l, -m, 2)` ([`PshVector::travel_convention`]), and `m_i -> -m_i`
+    /// stays within a pair of the layout (the entry beside it).
+    pub fn travel_input(&self) -> Result<IsotropicMatrix> {
+        let mut blocks = self.blocks.clone();
+        for (k, &(_, ji)) in self.pairs.iter().enumerate() {
+            let (l, m) = crate::sh::lm_of_index(ji);
+            let partner = match m.signum() {
+                -1 => k + 1,
+                1 => k - 1,
+                _ => k,
+            };
+            let sl = if l % 2 == 0 { 1.0 } else { -1.0 };
+            let slm = if (l as i64 + m) % 2 == 0 { 1.0 } else { -1.0 };
+            for po in 0..4 {
+                blocks[k][po][0] = sl * self.blocks[k][po][0];
+                blocks[k][po][3] = -sl * self.blocks[k][po][3];
+                blocks[k][po][1] = slm * self.blocks[partner][po][1];
+                blocks[k][po][2] = -slm * self.blocks[partner][po][2];
+            }
+        }
+        Ok(IsotropicMatrix {
+            lmax: self.lmax,
+            pairs: self.pairs.clone(),
+            blocks,
+        })
+    }
+
     /// PSH (41) over the stored blocks only: `O(lmax^3)` per channel.
     pub fn apply(&self, f: &PshVector) -> Result<PshVector> {
         apply_by_channel(self.lmax, f, |x, out| {
@@ -193,5 +240,35 @@ mod tests {
         assert_eq!(p[9], (0, lm_index(2, 0)));
         assert_eq!(p[20], (lm_index(2, -2), lm_index(2, -2)));
         assert_eq!(p[21], (lm_index(2, -2), lm_index(2, 2)));
+        for l in 0..12 {
+            assert_eq!(isotropic_lmax(isotropic_pairs(l).len()), Some(l));
+            assert_eq!(isotropic_lmax(isotropic_pairs(l).len() + 1), None);
+        }
+        assert_eq!(isotropic_lmax(10280), Some(19));
+    }
+
+    /// The sparse travel map equals the dense one, and is an involution.
+    #[test]
+    fn travel_input_sparse_equals_dense() {
+        let lmax = 6;
+        let k = isotropic_pairs(lmax).len();
+        let mut data: Vec<f64> = (0..k * 16)
+            .map(|i| ((i * 7919) % 1000) as f64 / 1000.0 - 0.5)
+            .collect();
+        // Zero the entries outside PSH (31).
+        for (q, &(jo, ji)) in isotropic_pairs(lmax).iter().enumerate() {
+            for po in 0..4 {
+                for pi in 0..4 {
+                    if (jo < 4 && (po == 1 || po == 2)) || (ji < 4 && (pi == 1 || pi == 2)) {
+                        data[(q * 4 + po) * 4 + pi] = 0.0;
+                    }
+                }
+            }
+        }
+        let m = IsotropicMatrix::from_blocks(lmax, &data).unwrap();
+        let sparse = m.travel_input().unwrap();
+        let dense = m.to_dense().unwrap().travel_input().unwrap();
+        assert_eq!(sparse.to_dense().unwrap(), dense);
+        assert_eq!(sparse.travel_input().unwrap(), m);
     }
 }

@@ -13,6 +13,7 @@
 //! outside it are stored as zeros. Storage follows the polarsh `.npz` layout
 //! `coeff[channel][l*l + l + m][p]`, `p` running over the codomain's components.
 
+mod angular;
 mod cube;
 pub mod figure10;
 mod image;
@@ -22,9 +23,10 @@ mod rotation;
 mod synthesis;
 mod triple;
 
+pub use angular::apply_angular;
 pub use cube::project_cube_map;
 pub use image::project_image;
-pub use isotropic::{isotropic_pairs, isotropy_defect, IsotropicMatrix};
+pub use isotropic::{isotropic_lmax, isotropic_pairs, isotropy_defect, IsotropicMatrix};
 pub use matrix::{project_operator, MatrixKernel, PshMatrix, SpinBlock22};
 pub use rotation::PshRotation;
 pub use synthesis::reconstruct_image;
@@ -168,6 +170,59 @@ impl PshVector {
     /// The data, `[channel][l*l + l + m][p]`.
     pub fn data(&self) -> &[f64] {
         &self.data
+    }
+
+    /// Channel `c` alone, as a one-channel vector. Error: `c` out of range.
+    pub fn channel(&self, c: usize) -> Result<PshVector> {
+        self.check_index(c, 0, 0)?;
+        let len = num_coeffs(self.lmax) * self.codomain.components().len();
+        let data = self.data[self.offset(c, 0)..][..len].to_vec();
+        PshVector::from_data(self.lmax, self.codomain, 1, data)
+    }
+
+    /// The channels of `parts` side by side (each may hold several). Errors: no parts, or
+    /// parts of different band limits or codomains, naming the first that differs.
+    pub fn from_channels(parts: &[PshVector]) -> Result<PshVector> {
+        let first = parts.first().ok_or_else(|| Error::InvalidArgument {
+            name: "PSH vectors",
+            value: "[]".into(),
+            reason: "at least one vector to stack".into(),
+        })?;
+        if let Some((k, v)) = parts
+            .iter()
+            .enumerate()
+            .find(|(_, v)| v.lmax != first.lmax || v.codomain != first.codomain)
+        {
+            return Err(Error::InvalidArgument {
+                name: "PSH vector",
+                value: format!("#{k}: lmax {}, {}", v.lmax, v.codomain.name()),
+                reason: format!(
+                    "the first has lmax {}, {}",
+                    first.lmax,
+                    first.codomain.name()
+                ),
+            });
+        }
+        let data = parts.iter().flat_map(|v| v.data.iter().copied()).collect();
+        let channels = parts.iter().map(|v| v.channels).sum();
+        PshVector::from_data(first.lmax, first.codomain, channels, data)
+    }
+
+    /// The coefficients of degrees `l <= lmax` (band-limiting). Error: `lmax` above this
+    /// vector's.
+    pub fn truncated(&self, lmax: usize) -> Result<PshVector> {
+        if lmax > self.lmax {
+            return Err(Error::InvalidArgument {
+                name: "lmax",
+                value: lmax.to_string(),
+                reason: format!("the vector has lmax {}", self.lmax),
+            });
+        }
+        let len = num_coeffs(lmax) * self.codomain.components().len();
+        let data = (0..self.channels)
+            .flat_map(|c| self.data[self.offset(c, 0)..][..len].iter().copied())
+            .collect();
+        PshVector::from_data(lmax, self.codomain, self.channels, data)
     }
 
     fn offset(&self, channel: usize, lm: usize) -> usize {

@@ -2,9 +2,10 @@
 
 use super::{random_psh, random_psh_matrix, Check};
 use crate::error::Result;
-use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
-use crate::polarized::{project_operator, Codomain, MatrixKernel, PshTransform, SpinBlock22};
-use crate::stokes::{MuellerField, StokesComponents};
+use crate::polarized::{
+    apply_angular, project_operator, Codomain, MatrixKernel, PshTransform, SpinBlock22,
+};
+use crate::stokes::MuellerField;
 
 pub fn checks() -> Vec<Check> {
     vec![
@@ -110,25 +111,7 @@ fn angular_vs_frequency() -> Result<f64> {
     let t = PshTransform::new(lmax)?;
     let f = random_psh(lmax, Codomain::Full, 1, 79)?;
     let field = t.reconstruct(&f, 0)?;
-    let tp = ThetaPhiFrameField::new();
-    let g = t.grid();
-    let frames = (0..g.len())
-        .map(|i| tp.frame(g.direction(i)?))
-        .collect::<Result<Vec<_>>>()?;
-    let k = MatrixKernel(&m);
-    let mut out = vec![[0.0; 4]; g.len()];
-    for (b, o) in out.iter_mut().enumerate() {
-        for (a, s) in field.iter().enumerate() {
-            // PSH (39): int P(w_a, w_b) f(w_a) dw_a on the exact grid.
-            let x = k
-                .matrix_in(&frames[a], &frames[b])?
-                .apply(&StokesComponents::new(*s)?)
-                .to_array();
-            for p in 0..4 {
-                o[p] += g.point_weight(a) * x[p];
-            }
-        }
-    }
+    let out = apply_angular(&MatrixKernel(&m), &t, &field)?;
     let angular = t.project(&out, Codomain::Full)?;
     let freq = m.apply(&f)?;
     Ok(max_diff(angular.data(), freq.data()) / max_abs(freq.data()))
