@@ -14,19 +14,25 @@
 //! `coeff[channel][l*l + l + m][p]`, `p` running over the codomain's components.
 
 mod angular;
+mod convolution;
 mod cube;
 pub mod figure10;
 mod image;
 mod isotropic;
+mod kernel;
 mod matrix;
 mod rotation;
 mod synthesis;
 mod triple;
 
 pub use angular::apply_angular;
+pub use convolution::{
+    convolve_angular, kernel_coefficients, project_to_convolution, KernelCoefficients,
+};
 pub use cube::project_cube_map;
 pub use image::project_image;
 pub use isotropic::{isotropic_lmax, isotropic_pairs, isotropy_defect, IsotropicMatrix};
+pub use kernel::{ConvolutionKernel, KernelValue};
 pub use matrix::{project_operator, MatrixKernel, PshMatrix, SpinBlock22};
 pub use rotation::PshRotation;
 pub use synthesis::reconstruct_image;

@@ -663,34 +663,6 @@ pub fn gaunt_product(l: usize, m: i64, l1: usize, m1: i64, l2: usize, m2: i64) -
     Ok(if m.rem_euclid(2) == 1 { -g } else { g })
 }
 
-/// Entry `U_{m mu}` of the unitary complex-to-real change of basis of PSH (12):
-/// `Y^R_{lm} = sum_mu U_{m mu} Y_{l mu}`; nonzero only for `mu = ±m`.
-fn real_from_complex(m: i64, mu: i64) -> Complex64 {
-    use std::f64::consts::FRAC_1_SQRT_2 as R;
-    let parity = if m.rem_euclid(2) == 1 { -1.0 } else { 1.0 };
-    match m.cmp(&0) {
-        std::cmp::Ordering::Equal => Complex64::new(if mu == 0 { 1.0 } else { 0.0 }, 0.0),
-        std::cmp::Ordering::Greater => {
-            if mu == m {
-                Complex64::new(R, 0.0)
-            } else if mu == -m {
-                Complex64::new(parity * R, 0.0)
-            } else {
-                Complex64::new(0.0, 0.0)
-            }
-        }
-        std::cmp::Ordering::Less => {
-            if mu == m {
-                Complex64::new(0.0, parity * R)
-            } else if mu == -m {
-                Complex64::new(0.0, -R)
-            } else {
-                Complex64::new(0.0, 0.0)
-            }
-        }
-    }
-}
-
 /// Reduction of a real Gaunt coefficient to a single complex one.
 ///
 /// With `Y^R_{lm} = sum_mu U_{m mu} Y_{l mu}` (PSH (12)),
@@ -730,9 +702,9 @@ fn real_coupling(m: [i64; 3]) -> Option<([i64; 3], f64)> {
         };
         debug_assert!(pattern.is_none() || pattern == Some(canonical));
         pattern = Some(canonical);
-        total += real_from_complex(m[0], mu[0])
-            * real_from_complex(m[1], mu[1])
-            * real_from_complex(m[2], mu[2]);
+        total += super::harmonics::real_from_complex(m[0], mu[0])
+            * super::harmonics::real_from_complex(m[1], mu[1])
+            * super::harmonics::real_from_complex(m[2], mu[2]);
     }
     let pattern = pattern?;
     let nonzero = a.iter().filter(|&&x| x != 0).count();

@@ -27,6 +27,34 @@ pub fn check_direction(w: [f64; 3]) -> Result<[f64; 3]> {
     Ok(w)
 }
 
+/// Entry `U_{m mu}` of the unitary complex-to-real change of basis of PSH (12):
+/// `Y^R_{lm} = sum_mu U_{m mu} Y_{l mu}`; nonzero only for `mu = ±m`.
+pub fn real_from_complex(m: i64, mu: i64) -> Complex64 {
+    use std::f64::consts::FRAC_1_SQRT_2 as R;
+    let parity = if m.rem_euclid(2) == 1 { -1.0 } else { 1.0 };
+    match m.cmp(&0) {
+        std::cmp::Ordering::Equal => Complex64::new(if mu == 0 { 1.0 } else { 0.0 }, 0.0),
+        std::cmp::Ordering::Greater => {
+            if mu == m {
+                Complex64::new(R, 0.0)
+            } else if mu == -m {
+                Complex64::new(parity * R, 0.0)
+            } else {
+                Complex64::new(0.0, 0.0)
+            }
+        }
+        std::cmp::Ordering::Less => {
+            if mu == m {
+                Complex64::new(0.0, parity * R)
+            } else if mu == -m {
+                Complex64::new(0.0, -R)
+            } else {
+                Complex64::new(0.0, 0.0)
+            }
+        }
+    }
+}
+
 /// `(cos(m phi), sin(m phi))` accurate to a few ulps for any `m`: the product `m phi`
 /// is split exactly into `hi + lo` (an FMA gives the rounding error `lo`), and the
 /// angle-sum formula corrects `cis(hi)` by `lo`.

@@ -6,6 +6,7 @@
 //! contract of DESIGN.md: `{"id", "source", "description", "max_error", "tolerance",
 //! "passed"}` (plus `"proof"`, the derivation's page in `proofs/`, when there is one).
 
+mod convolution;
 mod matrix;
 mod optics;
 mod oracle;
@@ -60,6 +61,7 @@ pub fn checks() -> Vec<Check> {
     all.extend(matrix::checks());
     all.extend(optics::checks());
     all.extend(triple::checks());
+    all.extend(convolution::checks());
     all
 }
 
