@@ -72,3 +72,8 @@ fn verify_matrix() {
 fn verify_triple() {
     run_group("triple.");
 }
+
+#[test]
+fn verify_filter() {
+    run_group("filter.");
+}

@@ -1,5 +1,5 @@
-//! The `psh` command line: `verify`, `eval`, and the environment-map pipeline
-//! `project`, `rotate`, `reconstruct`.
+//! The `psh` command line: `verify`, `eval`, the environment-map pipeline
+//! `project`, `rotate`, `reconstruct`, and `filter-report` (PF).
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use num_complex::Complex64;
@@ -46,6 +46,20 @@ enum Command {
     /// Reconstruct a PSH coefficient vector (.npz) on an image: EXR per Stokes component
     /// and PNG pictures (s0..s3, degree and angle of polarization).
     Reconstruct(ReconstructArgs),
+    /// Write the polarizing factor psi of PF Table 1's materials and the error of its
+    /// specular-colour approximation (PF Fig. 3, Fig. 5) as CSV and PNG plots into a
+    /// directory; print the largest errors (JSON, or a Markdown table).
+    FilterReport(FilterReportArgs),
+}
+
+#[derive(Args)]
+struct FilterReportArgs {
+    /// Output directory (created if missing).
+    #[arg(long)]
+    out: PathBuf,
+    /// Print the largest errors as a Markdown table instead of JSON.
+    #[arg(long)]
+    markdown: bool,
 }
 
 #[derive(Args)]
@@ -188,6 +202,7 @@ fn main() -> ExitCode {
         Command::Project(a) => project(&a),
         Command::Rotate(a) => rotate(&a),
         Command::Reconstruct(a) => reconstruct(&a),
+        Command::FilterReport(a) => return filter_report(&a),
     };
     match result {
         Ok(v) => {
@@ -199,6 +214,41 @@ fn main() -> ExitCode {
             ExitCode::from(1)
         }
     }
+}
+
+fn filter_report(a: &FilterReportArgs) -> ExitCode {
+    let report = match psh::io::filter_report::write_filter_report(&a.out) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(1);
+        }
+    };
+    if a.markdown {
+        print!("{}", report.markdown_table());
+    } else {
+        let errors: Vec<serde_json::Value> = report
+            .errors
+            .iter()
+            .map(|e| {
+                json!({
+                    "material": e.material.name(),
+                    "channel": format!("{:?}", e.channel),
+                    "r0_ior": e.r0_ior,
+                    "r0_table": e.r0_printed,
+                    "max_error_60deg": e.from_ior[0].abs,
+                    "max_error_89deg": e.from_ior[1].abs,
+                    "max_error_table_r0_60deg": e.printed[0].abs,
+                    "max_error_table_r0_89deg": e.printed[1].abs,
+                })
+            })
+            .collect();
+        println!(
+            "{}",
+            json!({"out": a.out, "files": report.files, "max_error": errors})
+        );
+    }
+    ExitCode::SUCCESS
 }
 
 fn verify(json: bool, filter: Option<&str>) -> ExitCode {

@@ -6,6 +6,7 @@
 //! contract of DESIGN.md: `{"id", "source", "description", "max_error", "tolerance",
 //! "passed"}` (plus `"proof"`, the derivation's page in `proofs/`, when there is one).
 
+mod filter;
 mod matrix;
 mod optics;
 mod oracle;
@@ -59,6 +60,7 @@ pub fn checks() -> Vec<Check> {
     all.extend(polarized::checks());
     all.extend(matrix::checks());
     all.extend(optics::checks());
+    all.extend(filter::checks());
     all.extend(triple::checks());
     all
 }
