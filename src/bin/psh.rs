@@ -266,7 +266,7 @@ fn verify(json: bool, filter: Option<&str>) -> ExitCode {
         );
         for r in &results {
             println!(
-                "{:<36} {:<16} {:>10.2e} {:>10.0e}  {}",
+                "{:<36} {:<16} {:>10.2e} {:>10.1e}  {}",
                 r.id,
                 r.source,
                 r.max_error,

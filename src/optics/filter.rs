@@ -401,6 +401,25 @@ mod tests {
     }
 
     #[test]
+    fn conductor_approximation_is_below_one() {
+        // psi~_C <= 1/(2 sqrt(beta~ gamma~)) (proofs/polarizing-filter.md §3), and
+        // beta~ gamma~ >= 0.435 on [0, 1) (minimum near R_0 = 0.063).
+        let mut least = f64::INFINITY;
+        for i in 0..100_000 {
+            let r0 = i as f64 * 1e-5;
+            least = least.min(beta_approx(r0).unwrap() * gamma_approx(r0).unwrap());
+        }
+        assert!((0.435..0.436).contains(&least), "{least}");
+        let bound = 0.5 / least.sqrt();
+        for i in 0..=900 {
+            let t = deg(0.1 * i as f64 - if i == 900 { 1e-9 } else { 0.0 });
+            for r0 in [0.0, 0.063, 0.5, 0.95] {
+                assert!(psi_conductor_approx(r0, t).unwrap() <= bound);
+            }
+        }
+    }
+
+    #[test]
     fn grazing_and_normal_incidence_are_finite() {
         let gold = Material::Gold.ior(Channel::Blue);
         for t in [
