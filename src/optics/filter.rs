@@ -307,9 +307,8 @@ pub fn filter_angle(camera_x: [f64; 3], h: [f64; 3], v: [f64; 3], omega: f64) ->
 /// polarizer in the camera frame `[x_cam, w_o x x_cam, w_o]` (`x_cam` made orthogonal
 /// to `w_o`). Its `s0` doubled over `intensity (F_perp + F_par)/2` is `Omega_IOR` of
 /// PF (12) at `varphi` = [`filter_angle`]`(camera_x, h, w_o, omega)`.
-/// Errors: non-unit or non-finite directions, `w_i` or `w_o` with `w_i . w_o = -1`
-/// (no facet) or a facet angle of 90 degrees, `camera_x` parallel to `w_o`, non-finite
-/// `omega` or `intensity`.
+/// Errors: non-unit or non-finite directions, `w_i = -w_o` (no facet), `camera_x`
+/// parallel to `w_o`, non-finite `omega` or `intensity`.
 pub fn mueller_filtered_reflection(
     ior: &ComplexIor,
     wi: [f64; 3],
@@ -319,8 +318,16 @@ pub fn mueller_filtered_reflection(
     intensity: f64,
 ) -> Result<StokesVector> {
     let (wi_v, wo_v) = unit_pair(wi, wo)?;
-    let cos_i = (wi_v + wo_v).normalize().dot(&wi_v);
-    let theta = Incidence::from_cos(cos_i.min(1.0))?;
+    let sum = wi_v + wo_v;
+    let len = sum.norm();
+    if len == 0.0 {
+        return Err(Error::InvalidArgument {
+            name: "directions w_i, w_o",
+            value: format!("{wi:?}, {wo:?}"),
+            reason: "opposite: no facet reflects one into the other".into(),
+        });
+    }
+    let theta = Incidence::from_cos((sum / len).dot(&wi_v).min(1.0))?;
     let fresnel = FresnelCoefficients::new(theta.cos, ior)?;
     let (fi, fo) = sp_frames_unit(&wi_v, &wo_v)?;
     let reflection = MuellerTransform::new(fresnel.mueller(), fi, fo);
@@ -463,6 +470,19 @@ mod tests {
         assert!(e.contains("varphi"), "{e}");
         let z = [0.0, 0.0, 1.0];
         assert!(filter_angle(z, z, z, 0.0).is_err());
+        let gold = Material::Gold.ior(Channel::Red);
+        let e = mueller_filtered_reflection(&gold, [0.0, 0.0, -1.0], z, [1.0, 0.0, 0.0], 0.0, 1.0)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("opposite"), "{e}");
+        let e = mueller_filtered_reflection(&gold, [f64::NAN, 0.0, 0.0], z, z, 0.0, 1.0)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("NaN"), "{e}");
+        // Nearly opposite directions (a facet at 89.99999 degrees) are fine and finite.
+        let (s, c) = (1e-7f64).sin_cos();
+        let out = mueller_filtered_reflection(&gold, [s, 0.0, -c], z, [1.0, 0.0, 0.0], 0.3, 1.0);
+        assert!(out.unwrap().s0().is_finite());
         assert!(filter_angle([1.0, 0.0, 0.0], z, [0.0, 0.0, 2.0], 0.0).is_err());
     }
 
