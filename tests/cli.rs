@@ -347,6 +347,19 @@ fn filter_report_writes_csv_and_png() {
     let png = std::fs::File::open(dir.join("psi_gold.png")).unwrap();
     let info = png::Decoder::new(png).read_info().unwrap();
     assert_eq!((info.info().width, info.info().height), (480, 300));
+    // The Markdown form: a header and one row per material.
+    let md = psh(&[
+        "filter-report",
+        "--out",
+        dir.to_str().unwrap(),
+        "--markdown",
+    ]);
+    assert!(md.status.success());
+    let md = String::from_utf8(md.stdout).unwrap();
+    assert_eq!(md.lines().count(), 2 + 15);
+    assert!(md
+        .lines()
+        .any(|l| l.starts_with("| Gold | 0.9442 / 0.7762 / 0.3733 |")));
     // A directory that cannot be created is an error, not a panic.
     let bad = psh(&[
         "filter-report",

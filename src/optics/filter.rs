@@ -408,6 +408,18 @@ mod tests {
     }
 
     #[test]
+    fn incidence_round_trips() {
+        for d in [0.0, 1e-9, 30.0, 60.0, 89.999] {
+            let t = deg(d);
+            assert!((t.angle().to_degrees() - d).abs() < 1e-12, "{d}");
+            let c = Incidence::from_cos(t.cos()).unwrap();
+            assert!((c.sin2() - t.sin2()).abs() < 1e-15);
+        }
+        // Just below 90 degrees in either unit stays valid.
+        assert!(Incidence::from_degrees(f64::from_bits(90f64.to_bits() - 1)).is_ok());
+    }
+
+    #[test]
     fn conductor_approximation_is_below_one() {
         // psi~_C <= 1/(2 sqrt(beta~ gamma~)) (proofs/polarizing-filter.md §3), and
         // beta~ gamma~ >= 0.435 on [0, 1) (minimum near R_0 = 0.063).
