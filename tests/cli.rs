@@ -288,3 +288,165 @@ fn pipeline_errors_are_one_line_with_the_path() {
         assert!(err.contains(what), "{args:?}: {err}");
     }
 }
+
+#[test]
+fn filter_report_writes_csv_and_png() {
+    let dir = std::env::temp_dir().join(format!("psh_filter_report_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = psh(&["filter-report", "--out", dir.to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let files = v["files"].as_array().unwrap();
+    assert_eq!(files.len(), 2 + 2 * 15);
+    for f in files {
+        assert!(std::path::Path::new(f.as_str().unwrap()).is_file(), "{f}");
+    }
+    // psi.csv: 15 materials x 3 channels x 900 angles, psi and psi~ in [0, 1].
+    let psi = std::fs::read_to_string(dir.join("psi.csv")).unwrap();
+    let mut lines = psi.lines();
+    assert_eq!(
+        lines.next(),
+        Some("material,channel,r0,theta_deg,psi,psi_approx,error")
+    );
+    let rows: Vec<Vec<String>> = lines
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
+    assert_eq!(rows.len(), 15 * 3 * 900);
+    for r in &rows {
+        let x: Vec<f64> = r[2..].iter().map(|v| v.parse().unwrap()).collect();
+        assert!((0.0..90.0).contains(&x[1]));
+        assert!(
+            (0.0..=1.0).contains(&x[2]) && (0.0..=1.0).contains(&x[3]),
+            "{r:?}"
+        );
+        assert!((x[3] - x[2] - x[4]).abs() < 1e-7, "{r:?}");
+    }
+    // max_error.csv: dielectrics exact, conductors within the paper's picture.
+    let max = std::fs::read_to_string(dir.join("max_error.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = max
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows.len(), 45);
+    for r in &rows {
+        let e60: f64 = r[5].parse().unwrap();
+        let e89: f64 = r[9].parse().unwrap();
+        assert!(e60 <= e89);
+        if r[2] == "false" {
+            assert!(e89 < 1e-13, "{r:?}");
+        } else {
+            assert!(e60 > 0.0 && e89 < 0.25, "{r:?}");
+        }
+    }
+    // The PNGs decode to the plot size.
+    let png = std::fs::File::open(dir.join("psi_gold.png")).unwrap();
+    let info = png::Decoder::new(png).read_info().unwrap();
+    assert_eq!((info.info().width, info.info().height), (480, 300));
+    // The Markdown form: a header and one row per material.
+    let md = psh(&[
+        "filter-report",
+        "--out",
+        dir.to_str().unwrap(),
+        "--markdown",
+    ]);
+    assert!(md.status.success());
+    let md = String::from_utf8(md.stdout).unwrap();
+    assert_eq!(md.lines().count(), 2 + 15);
+    assert!(md
+        .lines()
+        .any(|l| l.starts_with("| Gold | 0.9442 / 0.7762 / 0.3733 |")));
+    // A directory that cannot be created is an error, not a panic.
+    let bad = psh(&[
+        "filter-report",
+        "--out",
+        dir.join("psi.csv/x").to_str().unwrap(),
+    ]);
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("psi.csv"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `psh convolve` with the built-in kernel and with the same kernel as a CSV table (the
+/// table's linear interpolation is exact for `(pi - theta) I`); bad tables are one-line
+/// errors naming the file.
+#[test]
+fn convolve_with_builtin_and_table_kernels() {
+    use psh::io::npz;
+    use psh::polarized::{kernel_coefficients, Codomain, ConvolutionKernel};
+    let dir = std::env::temp_dir().join(format!("psh-cli-conv-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    let v = psh::verify::random_psh(6, Codomain::NoCircular, 3, 41).unwrap();
+    npz::write_psh_npz(p("in.npz"), &v).unwrap();
+    let out = psh(&[
+        "convolve",
+        &p("in.npz"),
+        "--kernel",
+        "linear-zenith",
+        "-o",
+        &p("a.npz"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let want = kernel_coefficients(&ConvolutionKernel::linear_zenith(), 6)
+        .unwrap()
+        .convolve(&v)
+        .unwrap();
+    assert_eq!(npz::read_psh_npz(p("a.npz")).unwrap(), want);
+
+    let pi = std::f64::consts::PI;
+    let mut table =
+        String::from("theta,k00,k01,k02,k03,k10,k11,k12,k13,k20,k21,k22,k23,k30,k31,k32,k33\n");
+    for i in 0..=16 {
+        let t = pi * i as f64 / 16.0;
+        let row: Vec<String> = (0..16)
+            .map(|e| if e % 5 == 0 { pi - t } else { 0.0 }.to_string())
+            .collect();
+        table.push_str(&format!("{t},{}\n", row.join(",")));
+    }
+    std::fs::write(p("k.csv"), table).unwrap();
+    let out = psh(&[
+        "convolve",
+        &p("in.npz"),
+        "--kernel-table",
+        &p("k.csv"),
+        "-o",
+        &p("b.npz"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let got = npz::read_psh_npz(p("b.npz")).unwrap();
+    let err = got
+        .data()
+        .iter()
+        .zip(want.data())
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(err < 1e-13, "{err}");
+
+    std::fs::write(p("bad.csv"), "0,1\n").unwrap();
+    let out = psh(&[
+        "convolve",
+        &p("in.npz"),
+        "--kernel-table",
+        &p("bad.csv"),
+        "-o",
+        &p("c.npz"),
+    ]);
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && e.contains("bad.csv") && e.contains("17"),
+        "{e}"
+    );
+    assert_eq!(e.trim().lines().count(), 1, "{e}");
+}

@@ -77,3 +77,8 @@ fn verify_triple() {
 fn verify_convolution() {
     run_group("conv.");
 }
+
+#[test]
+fn verify_filter() {
+    run_group("filter.");
+}

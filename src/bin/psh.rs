@@ -1,5 +1,5 @@
-//! The `psh` command line: `verify`, `eval`, and the environment-map pipeline
-//! `project`, `rotate`, `reconstruct`.
+//! The `psh` command line: `verify`, `eval`, the environment-map pipeline
+//! `project`, `rotate`, `reconstruct`, and `filter-report` (PF).
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use num_complex::Complex64;
@@ -46,6 +46,48 @@ enum Command {
     /// Reconstruct a PSH coefficient vector (.npz) on an image: EXR per Stokes component
     /// and PNG pictures (s0..s3, degree and angle of polarization).
     Reconstruct(ReconstructArgs),
+    /// Write the polarizing factor psi of PF Table 1's materials and the error of its
+    /// specular-colour approximation (PF Fig. 3, Fig. 5) as CSV and PNG plots into a
+    /// directory; print the largest errors (JSON, or a Markdown table).
+    FilterReport(FilterReportArgs),
+    /// Convolve a PSH coefficient vector (.npz) with a polarized kernel k(theta) by the
+    /// convolution theorem (PSH (68)-(69)), writing a POLAR4 .npz.
+    Convolve(ConvolveArgs),
+}
+
+#[derive(Args)]
+struct ConvolveArgs {
+    /// Input .npz.
+    input: PathBuf,
+    /// A built-in kernel: linear-zenith, k(theta) = (pi - theta) I (PSH Sec. 6.4.3).
+    #[arg(
+        long,
+        conflicts_with = "kernel_table",
+        required_unless_present = "kernel_table"
+    )]
+    kernel: Option<KernelName>,
+    /// A kernel table (CSV: theta in radians, then the 16 entries row-major; angles
+    /// strictly increasing from 0 to pi; docs/conventions.md).
+    #[arg(long)]
+    kernel_table: Option<PathBuf>,
+    /// Output .npz.
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum KernelName {
+    LinearZenith,
+}
+
+#[derive(Args)]
+struct FilterReportArgs {
+    /// Output directory (created if missing).
+    #[arg(long)]
+    out: PathBuf,
+    /// Print the largest errors as a Markdown table instead of JSON.
+    #[arg(long)]
+    markdown: bool,
 }
 
 #[derive(Args)]
@@ -188,6 +230,8 @@ fn main() -> ExitCode {
         Command::Project(a) => project(&a),
         Command::Rotate(a) => rotate(&a),
         Command::Reconstruct(a) => reconstruct(&a),
+        Command::FilterReport(a) => return filter_report(&a),
+        Command::Convolve(a) => convolve(&a),
     };
     match result {
         Ok(v) => {
@@ -199,6 +243,41 @@ fn main() -> ExitCode {
             ExitCode::from(1)
         }
     }
+}
+
+fn filter_report(a: &FilterReportArgs) -> ExitCode {
+    let report = match psh::io::filter_report::write_filter_report(&a.out) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(1);
+        }
+    };
+    if a.markdown {
+        print!("{}", report.markdown_table());
+    } else {
+        let errors: Vec<serde_json::Value> = report
+            .errors
+            .iter()
+            .map(|e| {
+                json!({
+                    "material": e.material.name(),
+                    "channel": format!("{:?}", e.channel),
+                    "r0_ior": e.r0_ior,
+                    "r0_table": e.r0_printed,
+                    "max_error_60deg": e.from_ior[0].abs,
+                    "max_error_89deg": e.from_ior[1].abs,
+                    "max_error_table_r0_60deg": e.printed[0].abs,
+                    "max_error_table_r0_89deg": e.printed[1].abs,
+                })
+            })
+            .collect();
+        println!(
+            "{}",
+            json!({"out": a.out, "files": report.files, "max_error": errors})
+        );
+    }
+    ExitCode::SUCCESS
 }
 
 fn verify(json: bool, filter: Option<&str>) -> ExitCode {
@@ -216,7 +295,7 @@ fn verify(json: bool, filter: Option<&str>) -> ExitCode {
         );
         for r in &results {
             println!(
-                "{:<36} {:<16} {:>10.2e} {:>10.0e}  {}",
+                "{:<36} {:<16} {:>10.2e} {:>10.1e}  {}",
                 r.id,
                 r.source,
                 r.max_error,
@@ -306,6 +385,28 @@ fn rotate(a: &RotateArgs) -> psh::Result<serde_json::Value> {
     let rotated = PshRotation::new(&r, v.lmax())?.rotate(&v)?;
     psh::io::npz::write_psh_npz(&a.output, &rotated)?;
     Ok(json!({"input": a.input, "rotvec": rotvec, "lmax": v.lmax(), "output": a.output}))
+}
+
+fn convolve(a: &ConvolveArgs) -> psh::Result<serde_json::Value> {
+    let v = psh::io::npz::read_psh_npz(&a.input)?;
+    let (kernel, name) = match (&a.kernel, &a.kernel_table) {
+        (Some(KernelName::LinearZenith), _) => (
+            psh::polarized::ConvolutionKernel::linear_zenith(),
+            "linear-zenith".to_string(),
+        ),
+        (None, Some(path)) => (
+            psh::io::kernel_csv::read_kernel_csv(path)?,
+            path.display().to_string(),
+        ),
+        (None, None) => unreachable!("clap requires --kernel or --kernel-table"),
+    };
+    let k = psh::polarized::kernel_coefficients(&kernel, v.lmax())?;
+    let out = k.convolve(&v)?;
+    psh::io::npz::write_psh_npz(&a.output, &out)?;
+    Ok(json!({
+        "input": a.input, "kernel": name, "lmax": v.lmax(),
+        "quadrature_error_estimate": k.error_estimate(), "output": a.output,
+    }))
 }
 
 fn reconstruct(a: &ReconstructArgs) -> psh::Result<serde_json::Value> {

@@ -1,5 +1,6 @@
 //! Files: polarized maps as EXR (one file per Stokes component) and as PNG pictures,
-//! PSH coefficient vectors as polarsh-compatible `.npz`.
+//! PSH coefficient vectors as polarsh-compatible `.npz`, line plots ([`plot`]) and the
+//! polarizing filter report ([`filter_report`]).
 //!
 //! **Stored frames.** Map files store each texel's components as Mitsuba 3 measures them
 //! (the convention of the shared data, `docs/conventions.md`): in the frame `[x, -y, -w]`
@@ -10,7 +11,10 @@
 //! convention ([`crate::polarized::PshVector::travel_convention`]).
 
 pub mod exr;
+pub mod filter_report;
+pub mod kernel_csv;
 pub mod npz;
+pub mod plot;
 pub mod png;
 
 use crate::error::{Error, Result};

@@ -42,8 +42,8 @@ pub fn write_png(
         })
 }
 
-/// sRGB encoding of a linear value in `[0, 1]`, to 8 bits.
-fn srgb8(x: f64) -> u8 {
+/// sRGB encoding of a linear value (clipped to `[0, 1]`), to 8 bits.
+pub fn srgb8(x: f64) -> u8 {
     let x = x.clamp(0.0, 1.0);
     let v = if x <= 0.003_130_8 {
         12.92 * x

@@ -9,8 +9,10 @@
 //! told from the text. The footnote marks survive as `*`
 //! (soda-lime glass, clear) and `†` (polycarbonate). Every printed `R_0` agrees with
 //! PF (3) evaluated on the printed `n`, `k` to the printed rounding, except that Quartz
-//! green (`R_0 = 0.03497`) is printed as 0.04 (0.035 rounded half up after a first
-//! rounding to three decimals).
+//! green (`R_0 = 0.03497`) is printed as 0.04. A first rounding to three decimals would
+//! explain that entry but contradicts Quartz red (0.03460, printed 0.03) and Titanium
+//! blue (0.54452, printed 0.54): a single discrepancy of the printed table
+//! (`proofs/polarizing-filter.md` §6, check `filter.r0_table`).
 
 use super::ior::ComplexIor;
 use crate::error::{Error, Result};
@@ -264,7 +266,7 @@ mod tests {
     #[test]
     fn printed_specular_color_matches_pf_3() {
         // R_0 = ((n-1)^2 + k^2)/((n+1)^2 + k^2) (PF (3)) to the printed two decimals; the
-        // one double-rounding case (Quartz green, 0.03497 printed 0.04) needs 0.0051.
+        // one discrepancy (Quartz green, 0.03497 printed 0.04) needs 0.0051.
         for m in Material::ALL {
             for c in Channel::ALL {
                 let r0 = m.ior(c).normal_reflectance();

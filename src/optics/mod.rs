@@ -1,5 +1,5 @@
-//! Optics: Fresnel reflection Mueller matrices (dielectrics and conductors), the GGX
-//! microfacet distribution, and polarized BRDF models implementing
+//! Optics: Fresnel reflection Mueller matrices (dielectrics and conductors), the linear
+//! polarizer and the polarizing filter function of PF, the GGX microfacet distribution, and polarized BRDF models implementing
 //! [`crate::stokes::MuellerField`] (PSH (38)); the material table of the PF paper.
 //!
 //! | item | what | source |
@@ -12,6 +12,9 @@
 //! | [`Lambertian`] | depolarizing diffuse pBRDF | PF assumption A2 |
 //! | [`PolarizedPlastic`], [`Conductor`] | complete models | |
 //! | [`Material`] | PF Table 1 | PF Table 1 |
+//! | [`LinearPolarizer`], [`malus_law`] | ideal linear polarizer, Malus's law | PF (8), Sec. 2.3 |
+//! | [`filter`] | the polarizing filter function: `psi`, `Omega_IOR`, `psi_D`, `psi~_C`, `Omega`, filter angle; `R_0 -> n`, Schlick | PF (4), (10)-(18), Listings 1-4; `proofs/polarizing-filter.md` |
+//! | [`filter_table`] | `psi`, `psi~` and their error for every material of Table 1 | PF Fig. 3, Fig. 5 |
 //!
 //! Conventions (derivations in `proofs/optics.md`):
 //! - Shading frame: the normal is `+z`; `w_i` points from the surface towards the light's
@@ -26,6 +29,8 @@
 //!   With this choice the map-file conversion `(s0, s1, -s2, -s3)` of `docs/conventions.md`
 //!   is also physically right for `s3` (Mitsuba 3 defines `s3` the same way).
 
+pub mod filter;
+pub mod filter_table;
 mod fresnel;
 mod ggx;
 mod ior;
@@ -33,6 +38,7 @@ mod lambertian;
 mod material;
 mod microfacet;
 mod models;
+mod polarizer;
 
 pub use fresnel::{fresnel, specular_reflection, FresnelCoefficients};
 pub use ggx::{Ggx, MAX_ROUGHNESS, MIN_ROUGHNESS};
@@ -41,3 +47,4 @@ pub use lambertian::Lambertian;
 pub use material::{Channel, Material, WAVELENGTHS_NM};
 pub use microfacet::{sp_frames, MicrofacetSpecular};
 pub use models::{Conductor, PolarizedPlastic};
+pub use polarizer::{malus_law, LinearPolarizer};

@@ -512,3 +512,36 @@ pub fn convolve_angular(
         })
         .collect()
 }
+
+/// The operator averaged over rotations (PSH Fig. 17(a)): `sum_R w_R D(R) M D(R)^T`
+/// (PSH (59) with (35)-(37)) over the Euler-angle product grid of resolution `n`: `2n`
+/// equispaced `alpha` and `gamma`, `n` Gauss-Legendre nodes in `cos beta`. The average is
+/// equivariant, hence a convolution, once the grid integrates the band limit exactly
+/// (`n >= lmax + 1`); below, [`project_to_convolution`] measures how far it is.
+/// `O(n^3 lmax^5)`. Error: `n = 0`.
+pub fn rotation_average(m: &PshMatrix, n: usize) -> Result<PshMatrix> {
+    use nalgebra::{Rotation3, Vector3};
+    let rule = GaussLegendre::new(n)?;
+    let size = m.data().len();
+    let mut acc = vec![0.0; size];
+    let azimuths = 2 * n;
+    for (x, wb) in rule.cos_theta.iter().zip(&rule.weights) {
+        let beta = x.acos();
+        for a in 0..azimuths {
+            for c in 0..azimuths {
+                let (alpha, gamma) = (
+                    2.0 * PI * a as f64 / azimuths as f64,
+                    2.0 * PI * c as f64 / azimuths as f64,
+                );
+                let r = Rotation3::from_axis_angle(&Vector3::z_axis(), alpha)
+                    * Rotation3::from_axis_angle(&Vector3::y_axis(), beta)
+                    * Rotation3::from_axis_angle(&Vector3::z_axis(), gamma);
+                let w = 0.5 * wb / (azimuths * azimuths) as f64;
+                for (o, v) in acc.iter_mut().zip(m.rotated(&r)?.data()) {
+                    *o += w * v;
+                }
+            }
+        }
+    }
+    PshMatrix::from_data(m.lmax(), acc)
+}

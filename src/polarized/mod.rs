@@ -27,7 +27,8 @@ mod triple;
 
 pub use angular::apply_angular;
 pub use convolution::{
-    convolve_angular, kernel_coefficients, project_to_convolution, KernelCoefficients,
+    convolve_angular, kernel_coefficients, project_to_convolution, rotation_average,
+    KernelCoefficients,
 };
 pub use cube::project_cube_map;
 pub use image::project_image;

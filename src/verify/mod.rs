@@ -7,6 +7,7 @@
 //! "passed"}` (plus `"proof"`, the derivation's page in `proofs/`, when there is one).
 
 mod convolution;
+mod filter;
 mod matrix;
 mod optics;
 mod oracle;
@@ -60,6 +61,7 @@ pub fn checks() -> Vec<Check> {
     all.extend(polarized::checks());
     all.extend(matrix::checks());
     all.extend(optics::checks());
+    all.extend(filter::checks());
     all.extend(triple::checks());
     all.extend(convolution::checks());
     all
