@@ -85,7 +85,7 @@ fn mul(a: &Channels, b: &Channels) -> Channels {
 pub struct KernelCoefficients {
     g: Vec<Channels>,
     /// Per band: the 4 x 4 block of `m = 0`, the 8 x 8 blocks of even and odd `m > 0`,
-    /// row-major over `(sign, p)` with sign `+m` first.
+    /// column-major (input index outer) over `(sign, p)` with sign `+m` first.
     blocks: Vec<([f64; 16], [f64; 64], [f64; 64])>,
     error_estimate: f64,
 }
@@ -274,34 +274,39 @@ impl KernelCoefficients {
             });
         }
         let n = num_coeffs(lmax);
-        let comps = f.codomain().components();
-        let np = comps.len();
+        let padded;
+        let f = if f.codomain() == Codomain::Full {
+            f
+        } else {
+            padded = f.with_codomain(Codomain::Full);
+            &padded
+        };
         let mut out = vec![0.0; f.channels() * n * 4];
-        for (c, o) in out.chunks_exact_mut(n * 4).enumerate() {
-            let x = &f.data()[c * n * np..(c + 1) * n * np];
-            let full = |j: usize| -> [f64; 4] {
-                let mut v = [0.0; 4];
-                for (k, &p) in comps.iter().enumerate() {
-                    v[p] = x[j * np + k];
-                }
-                v
-            };
+        for (o, x) in out
+            .chunks_exact_mut(n * 4)
+            .zip(f.data().chunks_exact(n * 4))
+        {
             for (l, (b0, even, odd)) in self.blocks.iter().enumerate() {
                 let j0 = lm_index(l, 0);
-                let v = full(j0);
-                for q in 0..4 {
-                    o[j0 * 4 + q] = (0..4).map(|p| b0[q * 4 + p] * v[p]).sum();
+                let mut y = [0.0; 4];
+                for (xk, col) in x[j0 * 4..j0 * 4 + 4].iter().zip(b0.chunks_exact(4)) {
+                    for (yr, br) in y.iter_mut().zip(col) {
+                        *yr += xk * br;
+                    }
                 }
+                o[j0 * 4..j0 * 4 + 4].copy_from_slice(&y);
                 for m in 1..=l as i64 {
                     let (jp, jm) = (lm_index(l, m), lm_index(l, -m));
-                    let (vp, vm) = (full(jp), full(jm));
-                    let input = [vp[0], vp[1], vp[2], vp[3], vm[0], vm[1], vm[2], vm[3]];
                     let b = if m % 2 == 0 { even } else { odd };
-                    for r in 0..8 {
-                        let y: f64 = (0..8).map(|k| b[r * 8 + k] * input[k]).sum();
-                        let j = if r < 4 { jp } else { jm };
-                        o[j * 4 + r % 4] = y;
+                    let mut y = [0.0; 8];
+                    let input = x[jp * 4..jp * 4 + 4].iter().chain(&x[jm * 4..jm * 4 + 4]);
+                    for (xk, col) in input.zip(b.chunks_exact(8)) {
+                        for (yr, br) in y.iter_mut().zip(col) {
+                            *yr += xk * br;
+                        }
                     }
+                    o[jp * 4..jp * 4 + 4].copy_from_slice(&y[..4]);
+                    o[jm * 4..jm * 4 + 4].copy_from_slice(&y[4..]);
                 }
             }
         }
@@ -321,7 +326,7 @@ impl KernelCoefficients {
             let j0 = lm_index(l, 0);
             for q in 0..4 {
                 for p in 0..4 {
-                    set(j0, j0, q, p, b0[q * 4 + p]);
+                    set(j0, j0, q, p, b0[p * 4 + q]);
                 }
             }
             for m in 1..=l as i64 {
@@ -329,7 +334,7 @@ impl KernelCoefficients {
                 let b = if m % 2 == 0 { even } else { odd };
                 for r in 0..8 {
                     for k in 0..8 {
-                        set(j[r / 4], j[k / 4], r % 4, k % 4, b[r * 8 + k]);
+                        set(j[r / 4], j[k / 4], r % 4, k % 4, b[k * 8 + r]);
                     }
                 }
             }
@@ -348,7 +353,7 @@ fn real_blocks(l: usize, g: &Channels) -> ([f64; 16], [f64; 64], [f64; 64]) {
         x[0][p] = 1.0;
         let y = apply_channels(g, 0, &x);
         for q in 0..4 {
-            b0[q * 4 + p] = y[0][q];
+            b0[p * 4 + q] = y[0][q];
         }
     }
     let block = |m: i64| {
@@ -364,7 +369,7 @@ fn real_blocks(l: usize, g: &Channels) -> ([f64; 16], [f64; 64], [f64; 64]) {
             }
             let y = apply_channels(g, m, &x);
             for r in 0..8 {
-                b[r * 8 + k] = y[r / 4][r % 4];
+                b[k * 8 + r] = y[r / 4][r % 4];
             }
         }
         b

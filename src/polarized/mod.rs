@@ -179,6 +179,30 @@ impl PshVector {
         &self.data
     }
 
+    /// The same coefficients with another codomain: components it lacks are zero,
+    /// components this vector lacks are dropped.
+    pub fn with_codomain(&self, codomain: Codomain) -> PshVector {
+        let (from, to) = (self.codomain.components(), codomain.components());
+        let n = num_coeffs(self.lmax);
+        let mut data = vec![0.0; self.channels * n * to.len()];
+        for (o, x) in data
+            .chunks_exact_mut(to.len())
+            .zip(self.data.chunks_exact(from.len()))
+        {
+            for (k, p) in to.iter().enumerate() {
+                if let Some(i) = from.iter().position(|q| q == p) {
+                    o[k] = x[i];
+                }
+            }
+        }
+        PshVector {
+            lmax: self.lmax,
+            codomain,
+            channels: self.channels,
+            data,
+        }
+    }
+
     /// Channel `c` alone, as a one-channel vector. Error: `c` out of range.
     pub fn channel(&self, c: usize) -> Result<PshVector> {
         self.check_index(c, 0, 0)?;
