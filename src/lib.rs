@@ -15,6 +15,7 @@ pub mod io;
 pub mod map;
 pub mod optics;
 pub mod polarized;
+pub mod pprt;
 pub mod sh;
 pub mod stokes;
 pub mod swsh;

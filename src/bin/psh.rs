@@ -53,6 +53,45 @@ enum Command {
     /// Convolve a PSH coefficient vector (.npz) with a polarized kernel k(theta) by the
     /// convolution theorem (PSH (68)-(69)), writing a POLAR4 .npz.
     Convolve(ConvolveArgs),
+    /// Render a scene by precomputed polarized radiance transfer (PSH Sec. 7): pictures
+    /// and report.json into a directory (the default command: the built-in scene into
+    /// ./psh-out).
+    Render(RenderArgs),
+}
+
+#[derive(Args)]
+struct RenderArgs {
+    /// Output directory.
+    #[arg(long, default_value = "psh-out")]
+    out: PathBuf,
+    /// Band limit of the transfer (l <= l_low).
+    #[arg(long, default_value_t = 4)]
+    l_low: usize,
+    /// Visibility rays per vertex.
+    #[arg(long, default_value_t = 256)]
+    rays: usize,
+    /// Render without shadows (no visibility rays).
+    #[arg(long)]
+    no_shadows: bool,
+    /// Image size WxH.
+    #[arg(long, default_value = "480x360")]
+    size: String,
+    /// Polarizer angles in degrees (from image-right towards image-up), comma-separated.
+    #[arg(long, default_value = "0,45,90,135", allow_hyphen_values = true)]
+    polarizer: String,
+}
+
+impl Default for RenderArgs {
+    fn default() -> Self {
+        Self {
+            out: "psh-out".into(),
+            l_low: 4,
+            rays: 256,
+            no_shadows: false,
+            size: "480x360".into(),
+            polarizer: "0,45,90,135".into(),
+        }
+    }
 }
 
 #[derive(Args)]
@@ -219,10 +258,10 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let result = match cli.command.unwrap_or(Command::Verify {
-        json: false,
-        filter: None,
-    }) {
+    let result = match cli
+        .command
+        .unwrap_or(Command::Render(RenderArgs::default()))
+    {
         Command::Verify { json, filter } => return verify(json, filter.as_deref()),
         Command::Eval(Eval::Sh(a)) => eval_sh(&a),
         Command::Eval(Eval::Wigner(a)) => eval_wigner(&a),
@@ -232,6 +271,7 @@ fn main() -> ExitCode {
         Command::Reconstruct(a) => reconstruct(&a),
         Command::FilterReport(a) => return filter_report(&a),
         Command::Convolve(a) => convolve(&a),
+        Command::Render(a) => render(&a),
     };
     match result {
         Ok(v) => {
@@ -407,6 +447,46 @@ fn convolve(a: &ConvolveArgs) -> psh::Result<serde_json::Value> {
         "input": a.input, "kernel": name, "lmax": v.lmax(),
         "quadrature_error_estimate": k.error_estimate(), "output": a.output,
     }))
+}
+
+fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
+    let bad = |name: &'static str, value: &str, reason: &str| Error::InvalidArgument {
+        name,
+        value: value.to_string(),
+        reason: reason.into(),
+    };
+    let (w, h) = a
+        .size
+        .split_once('x')
+        .and_then(|(w, h)| Some((w.trim().parse().ok()?, h.trim().parse().ok()?)))
+        .filter(|&(w, h): &(usize, usize)| w > 0 && h > 0)
+        .ok_or_else(|| bad("--size", &a.size, "expected WxH, e.g. 480x360"))?;
+    let polarizers = a
+        .polarizer
+        .split(',')
+        .filter(|x| !x.trim().is_empty())
+        .map(|x| {
+            x.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| bad("--polarizer", x, "angles in degrees, comma-separated"))
+        })
+        .collect::<psh::Result<Vec<_>>>()?;
+    let settings = psh::pprt::transfer::TransferSettings {
+        l_low: a.l_low,
+        rays: a.rays,
+        shadows: !a.no_shadows,
+    };
+    let scene = psh::pprt::job::builtin_scene(a.l_low.max(9), w, h)?;
+    eprintln!(
+        "rendering the built-in scene ({} triangles, l_low {}, {} rays per vertex) into {}",
+        scene.triangle_count(),
+        a.l_low,
+        a.rays,
+        a.out.display()
+    );
+    psh::pprt::job::render_job(&scene, settings, &polarizers, &a.out)
 }
 
 fn reconstruct(a: &ReconstructArgs) -> psh::Result<serde_json::Value> {

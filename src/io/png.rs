@@ -101,17 +101,35 @@ fn luminance(values: &[f64]) -> f64 {
 /// the paths.
 pub fn write_map_pngs(map: &StokesMap, prefix: &str) -> Result<Vec<PathBuf>> {
     let layout = map.layout();
-    let (w, h) = (layout.width(), layout.height());
     let on: Vec<bool> = (0..layout.len())
         .map(|i| layout.solid_angle(i) > 0.0)
         .collect();
-    // Stored-frame components per channel, and the luminance Stokes vector per texel.
+    // Stored-frame components per channel.
     let stored: Vec<Vec<[f64; 4]>> = map
         .channels()
         .iter()
         .map(|ch| ch.iter().map(|s| reverse_frame(*s)).collect())
         .collect();
-    let lum: Vec<[f64; 4]> = (0..layout.len())
+    write_stokes_pngs(&stored, &on, layout.width(), layout.height(), prefix)
+}
+
+/// Writes `{prefix}_s0.png`, `_s1`, `_s2`, `_s3`, `_dop` and `_aop` for an image of
+/// `w x h` pixels (row-major) given per channel (1 or 3) as Stokes components in the
+/// frames they are stored in; pixels where `on` is false are black. Returns the paths.
+pub fn write_stokes_pngs(
+    stored: &[Vec<[f64; 4]>],
+    on: &[bool],
+    w: usize,
+    h: usize,
+    prefix: &str,
+) -> Result<Vec<PathBuf>> {
+    let n = w * h;
+    for (what, len) in std::iter::once(("pixel mask", on.len()))
+        .chain(stored.iter().map(|c| ("Stokes image channel", c.len())))
+    {
+        crate::error::check_len(what, n, len)?;
+    }
+    let lum: Vec<[f64; 4]> = (0..n)
         .map(|i| {
             [0, 1, 2, 3].map(|p| luminance(&stored.iter().map(|c| c[i][p]).collect::<Vec<_>>()))
         })
@@ -125,7 +143,7 @@ pub fn write_map_pngs(map: &StokesMap, prefix: &str) -> Result<Vec<PathBuf>> {
     let mut out = Vec::new();
     let mut save = |name: &str, pixel: &dyn Fn(usize) -> [u8; 3]| -> Result<()> {
         let path = PathBuf::from(format!("{prefix}_{name}.png"));
-        let rgb: Vec<[u8; 3]> = (0..layout.len())
+        let rgb: Vec<[u8; 3]> = (0..n)
             .map(|i| if on[i] { pixel(i) } else { [0; 3] })
             .collect();
         write_png(&path, w, h, &rgb)?;

@@ -295,25 +295,34 @@ impl PshVector {
                 reason: format!("{} channels", self.channels),
             });
         }
+        Ok(self.evaluate_all(w)?.swap_remove(c))
+    }
+
+    /// The Stokes vectors of every channel at `w` ([`Self::evaluate`], the basis evaluated
+    /// once).
+    pub fn evaluate_all(&self, w: [f64; 3]) -> Result<Vec<StokesVector>> {
         let (t, p) = direction_angles(w)?;
         let (yr, y2) = (sh_real(self.lmax, t, p)?, swsh(2, self.lmax, t, p)?);
-        let mut s = [0.0; 4];
-        let z: Complex64 = self.spin2(c).iter().zip(&y2).map(|(a, y)| a * y).sum();
-        (s[1], s[2]) = (z.re, z.im);
-        for (k, &q) in self.codomain.components().iter().enumerate() {
-            if q == 0 || q == 3 {
-                s[q] = self
-                    .component(c, k)
-                    .iter()
-                    .zip(&yr)
-                    .map(|(a, y)| a * y)
-                    .sum();
-            }
-        }
-        Ok(StokesVector::new(
-            StokesComponents::new(s)?,
-            ThetaPhiFrameField::new().frame(w)?,
-        ))
+        let frame = ThetaPhiFrameField::new().frame(w)?;
+        let comps = self.codomain.components();
+        let n = num_coeffs(self.lmax);
+        self.data
+            .chunks_exact(n * comps.len())
+            .map(|x| {
+                let (mut s, mut z) = ([0.0; 4], Complex64::default());
+                for ((xj, yr), y2) in x.chunks_exact(comps.len()).zip(&yr).zip(&y2) {
+                    for (&v, &q) in xj.iter().zip(comps) {
+                        match q {
+                            1 => z += v * y2,
+                            2 => z += Complex64::new(0.0, v) * y2,
+                            _ => s[q] += v * yr,
+                        }
+                    }
+                }
+                (s[1], s[2]) = (z.re, z.im);
+                Ok(StokesVector::new(StokesComponents::new(s)?, frame))
+            })
+            .collect()
     }
 
     /// The same light field indexed by the direction of travel `v = -w` instead of the

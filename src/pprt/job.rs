@@ -1,0 +1,128 @@
+//! The render job: a scene, precomputation, one frame, pictures (PNG per Stokes
+//! component, degree and angle of polarization, images through polarizers) and
+//! `report.json` with the time of every stage, the counts and the settings.
+
+use super::mesh::Mesh;
+use super::render::{background, primary_hits, render_frame, StokesImage};
+use super::scene::{Camera, Scene, SceneMaterial, SceneObject};
+use super::sky::RayleighSky;
+use super::transfer::{precompute, TransferSettings};
+use crate::error::{Error, Result};
+use crate::io::png::{srgb8, write_png, write_stokes_pngs};
+use crate::optics::{Material, PolarizedPlastic};
+use serde_json::json;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// The built-in scene: a glossy dielectric sphere and a gold sphere on a diffuse ground
+/// plane under the Rayleigh sky (sun at 35 degrees elevation), seen from above the
+/// ground; environment band limit `lmax`.
+pub fn builtin_scene(lmax: usize, width: usize, height: usize) -> Result<Scene> {
+    let sky = RayleighSky::new(35f64.to_radians(), 2.4)?;
+    let objects = vec![
+        SceneObject {
+            mesh: Mesh::plane([0.0, 0.0, 0.0], 4.0, 24)?,
+            material: 0,
+        },
+        SceneObject {
+            mesh: Mesh::sphere([-0.8, 0.0, 0.7], 0.7, 32, 64)?,
+            material: 1,
+        },
+        SceneObject {
+            mesh: Mesh::sphere([0.9, 0.3, 0.6], 0.6, 32, 64)?,
+            material: 2,
+        },
+    ];
+    let materials = vec![
+        SceneMaterial::Plastic(PolarizedPlastic::new(0.6, 1.5, 0.6)?),
+        SceneMaterial::Plastic(PolarizedPlastic::new(0.15, 1.5, 0.2)?),
+        SceneMaterial::Conductor {
+            material: Material::Gold,
+            alpha: 0.2,
+        },
+    ];
+    let camera = Camera::look_at([0.0, -4.5, 2.2], [0.0, 0.0, 0.5], 0.75, width, height)?;
+    Scene::new(objects, materials, sky.project(lmax)?, camera)
+}
+
+/// Renders `scene` with `settings` into `out` (created): `{s0,s1,s2,s3,dop,aop}.png`,
+/// `polarizer_{deg}.png` for each angle in `polarizers` (degrees from image-right towards
+/// image-up) and `report.json`. Returns the report.
+pub fn render_job(
+    scene: &Scene,
+    settings: TransferSettings,
+    polarizers: &[f64],
+    out: &Path,
+) -> Result<serde_json::Value> {
+    std::fs::create_dir_all(out).map_err(|e| Error::Io {
+        path: out.to_path_buf(),
+        source: e,
+    })?;
+    let t0 = Instant::now();
+    let transfer = precompute(scene, settings)?;
+    let t_pre = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let hits = primary_hits(scene);
+    let bg = background(scene, &hits)?;
+    let t_hits = t1.elapsed().as_secs_f64();
+    let t2 = Instant::now();
+    let image = render_frame(scene, &transfer, &hits, &bg)?;
+    let t_frame = t2.elapsed().as_secs_f64();
+    let t3 = Instant::now();
+    let prefix = out.join("render");
+    let mut written = write_stokes_pngs(
+        &image.channels,
+        &vec![true; image.width * image.height],
+        image.width,
+        image.height,
+        &prefix.to_string_lossy(),
+    )?;
+    for &deg in polarizers {
+        written.push(write_polarizer_png(&image, deg, out)?);
+    }
+    let t_out = t3.elapsed().as_secs_f64();
+    let vertices: usize = scene
+        .objects()
+        .iter()
+        .map(|o| o.mesh.positions().len())
+        .sum();
+    let cam = scene.camera();
+    let report = json!({
+        "settings": {
+            "l_low": settings.l_low, "rays_per_vertex": settings.rays,
+            "shadows": settings.shadows, "environment_lmax": scene.environment().lmax(),
+            "image": [cam.width, cam.height], "polarizers_deg": polarizers,
+        },
+        "counts": {
+            "vertices": vertices, "triangles": scene.triangle_count(),
+            "visibility_rays": if settings.shadows { vertices * settings.rays } else { 0 },
+            "primary_rays": cam.width * cam.height,
+            "transfer_coefficients_per_vertex": 3 * 4 * crate::sh::num_coeffs(settings.l_low),
+        },
+        "times_s": {
+            "precompute": t_pre, "primary_visibility_and_background": t_hits, "frame": t_frame,
+            "pictures": t_out,
+        },
+        "pictures": written,
+    });
+    let path = out.join("report.json");
+    std::fs::write(&path, serde_json::to_string_pretty(&report).expect("JSON"))
+        .map_err(|e| Error::Io { path, source: e })?;
+    Ok(report)
+}
+
+/// The luminance-free RGB picture through a polarizer, with the exposure of `s0`.
+fn write_polarizer_png(image: &StokesImage, deg: f64, out: &Path) -> Result<PathBuf> {
+    let through: Vec<Vec<f64>> = (0..3)
+        .map(|c| image.through_polarizer(c, deg.to_radians()))
+        .collect();
+    let mut s0: Vec<f64> = image.channels[1].iter().map(|s| s[0].abs()).collect();
+    s0.sort_by(f64::total_cmp);
+    let exposure = 1.0 / s0[(0.99 * (s0.len() - 1) as f64) as usize].max(1e-300);
+    let rgb: Vec<[u8; 3]> = (0..image.width * image.height)
+        .map(|k| [0, 1, 2].map(|c| srgb8(2.0 * exposure * through[c][k])))
+        .collect();
+    let path = out.join(format!("polarizer_{deg}.png"));
+    write_png(&path, image.width, image.height, &rgb)?;
+    Ok(path)
+}

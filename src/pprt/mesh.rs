@@ -1,0 +1,275 @@
+//! Triangle meshes with per-vertex normals: procedural spheres and planes, OBJ files
+//! (the `tobj` crate).
+
+use crate::error::{Error, Result};
+use nalgebra::Vector3;
+use std::f64::consts::PI;
+use std::path::Path;
+
+/// Smallest triangle area accepted (relative to the squared longest edge).
+const DEGENERATE_AREA: f64 = 1e-14;
+
+/// A triangle mesh: positions, unit normals and triangles (counter-clockwise seen from
+/// the side the normals point to).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mesh {
+    positions: Vec<[f64; 3]>,
+    normals: Vec<[f64; 3]>,
+    triangles: Vec<[u32; 3]>,
+}
+
+impl Mesh {
+    /// A mesh from positions, optional normals (computed as area-weighted averages of the
+    /// faces' normals when `None`) and triangles. Errors: non-finite positions or normals,
+    /// indices out of range, degenerate triangles, a vertex whose normal vanishes; each
+    /// naming the index.
+    pub fn new(
+        positions: Vec<[f64; 3]>,
+        normals: Option<Vec<[f64; 3]>>,
+        triangles: Vec<[u32; 3]>,
+    ) -> Result<Self> {
+        let bad = |name: &'static str, value: String, reason: &str| Error::InvalidArgument {
+            name,
+            value,
+            reason: reason.into(),
+        };
+        if let Some(i) = positions
+            .iter()
+            .position(|p| p.iter().any(|x| !x.is_finite()))
+        {
+            return Err(bad(
+                "mesh vertex",
+                format!("#{i}: {:?}", positions[i]),
+                "finite coordinates",
+            ));
+        }
+        let n = positions.len();
+        let mut face_sum = vec![Vector3::zeros(); n];
+        for (k, t) in triangles.iter().enumerate() {
+            if t.iter().any(|&i| i as usize >= n) {
+                return Err(bad(
+                    "mesh triangle",
+                    format!("#{k}: {t:?}"),
+                    "vertex index out of range",
+                ));
+            }
+            let [a, b, c] = t.map(|i| Vector3::from(positions[i as usize]));
+            let cross = (b - a).cross(&(c - a));
+            let edge = (b - a)
+                .norm_squared()
+                .max((c - a).norm_squared())
+                .max((c - b).norm_squared());
+            if cross.norm() <= DEGENERATE_AREA * edge || edge == 0.0 {
+                return Err(bad(
+                    "mesh triangle",
+                    format!("#{k}: {t:?}"),
+                    "degenerate (zero area)",
+                ));
+            }
+            for &i in t {
+                face_sum[i as usize] += cross;
+            }
+        }
+        let normals = match normals {
+            Some(v) => {
+                crate::error::check_len("mesh normals", n, v.len())?;
+                v
+            }
+            None => face_sum.iter().map(|s| [s.x, s.y, s.z]).collect(),
+        };
+        let normals = normals
+            .iter()
+            .enumerate()
+            .map(|(i, m)| {
+                let v = Vector3::from(*m);
+                let len = v.norm();
+                if !(len.is_finite() && len > 0.0) {
+                    return Err(bad(
+                        "mesh normal",
+                        format!("#{i}: {m:?}"),
+                        "finite and non-zero",
+                    ));
+                }
+                Ok([v.x / len, v.y / len, v.z / len])
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Self {
+            positions,
+            normals,
+            triangles,
+        })
+    }
+
+    /// A UV sphere of `rings` x `segments` quads (poles closed by triangles).
+    pub fn sphere(center: [f64; 3], radius: f64, rings: usize, segments: usize) -> Result<Self> {
+        if !(radius.is_finite() && radius > 0.0) || rings < 2 || segments < 3 {
+            return Err(Error::InvalidArgument {
+                name: "sphere",
+                value: format!("radius {radius}, {rings} rings, {segments} segments"),
+                reason: "radius > 0, at least 2 rings and 3 segments".into(),
+            });
+        }
+        let mut positions = vec![[center[0], center[1], center[2] + radius]];
+        let mut normals = vec![[0.0, 0.0, 1.0]];
+        for r in 1..rings {
+            let t = PI * r as f64 / rings as f64;
+            for s in 0..segments {
+                let p = 2.0 * PI * s as f64 / segments as f64;
+                let n = [t.sin() * p.cos(), t.sin() * p.sin(), t.cos()];
+                positions.push(std::array::from_fn(|k| center[k] + radius * n[k]));
+                normals.push(n);
+            }
+        }
+        positions.push([center[0], center[1], center[2] - radius]);
+        normals.push([0.0, 0.0, -1.0]);
+        let ring = |r: usize, s: usize| (1 + (r - 1) * segments + s % segments) as u32;
+        let last = (positions.len() - 1) as u32;
+        let mut triangles = Vec::new();
+        for s in 0..segments {
+            triangles.push([0, ring(1, s), ring(1, s + 1)]);
+            for r in 1..rings - 1 {
+                triangles.push([ring(r, s), ring(r + 1, s), ring(r + 1, s + 1)]);
+                triangles.push([ring(r, s), ring(r + 1, s + 1), ring(r, s + 1)]);
+            }
+            triangles.push([ring(rings - 1, s), last, ring(rings - 1, s + 1)]);
+        }
+        Self::new(positions, Some(normals), triangles)
+    }
+
+    /// A square in the plane `z = center[2]`, normal `+z`, of half-size `half`, split into
+    /// `n x n` quads.
+    pub fn plane(center: [f64; 3], half: f64, n: usize) -> Result<Self> {
+        if !(half.is_finite() && half > 0.0) || n == 0 {
+            return Err(Error::InvalidArgument {
+                name: "plane",
+                value: format!("half-size {half}, {n} quads"),
+                reason: "half-size > 0 and at least one quad".into(),
+            });
+        }
+        let mut positions = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+                positions.push([
+                    center[0] + half * (2.0 * u - 1.0),
+                    center[1] + half * (2.0 * v - 1.0),
+                    center[2],
+                ]);
+            }
+        }
+        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+        let mut triangles = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        let normals = vec![[0.0, 0.0, 1.0]; positions.len()];
+        Self::new(positions, Some(normals), triangles)
+    }
+
+    /// Reads an OBJ file (all its models, triangulated; normals computed when absent).
+    /// Errors name the file and the reason.
+    pub fn from_obj(path: impl AsRef<Path>) -> Result<Self> {
+        let path = path.as_ref();
+        let malformed = |reason: String| Error::MalformedFile {
+            path: path.to_path_buf(),
+            reason,
+        };
+        let opts = tobj::LoadOptions {
+            triangulate: true,
+            single_index: true,
+            ..Default::default()
+        };
+        let (models, _) = tobj::load_obj(path, &opts).map_err(|e| malformed(e.to_string()))?;
+        let (mut positions, mut normals, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
+        let mut all_normals = true;
+        for m in &models {
+            let base = positions.len() as u32;
+            let mesh = &m.mesh;
+            positions.extend(
+                mesh.positions
+                    .chunks_exact(3)
+                    .map(|p| [p[0], p[1], p[2]].map(f64::from)),
+            );
+            all_normals &= mesh.normals.len() == mesh.positions.len();
+            normals.extend(
+                mesh.normals
+                    .chunks_exact(3)
+                    .map(|p| [p[0], p[1], p[2]].map(f64::from)),
+            );
+            triangles.extend(
+                mesh.indices
+                    .chunks_exact(3)
+                    .map(|t| [t[0] + base, t[1] + base, t[2] + base]),
+            );
+        }
+        if triangles.is_empty() {
+            return Err(malformed("no triangles".into()));
+        }
+        Self::new(positions, all_normals.then_some(normals), triangles)
+            .map_err(|e| malformed(e.to_string()))
+    }
+
+    /// Vertex positions.
+    pub fn positions(&self) -> &[[f64; 3]] {
+        &self.positions
+    }
+
+    /// Unit vertex normals.
+    pub fn normals(&self) -> &[[f64; 3]] {
+        &self.normals
+    }
+
+    /// Triangles.
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+
+    /// The mesh rotated by `r` about the origin.
+    pub fn rotated(&self, r: &nalgebra::Rotation3<f64>) -> Mesh {
+        let turn = |v: &[f64; 3]| {
+            let w = r * Vector3::from(*v);
+            [w.x, w.y, w.z]
+        };
+        Mesh {
+            positions: self.positions.iter().map(turn).collect(),
+            normals: self.normals.iter().map(turn).collect(),
+            triangles: self.triangles.clone(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn procedural_meshes_and_errors() {
+        let s = Mesh::sphere([0.0, 0.0, 1.0], 0.5, 8, 12).unwrap();
+        assert_eq!(s.positions().len(), 2 + 7 * 12);
+        // Outward normals: the triangles wind counter-clockwise seen from outside.
+        for t in s.triangles() {
+            let [a, b, c] = t.map(|i| Vector3::from(s.positions()[i as usize]));
+            let n = (b - a).cross(&(c - a));
+            let centroid = (a + b + c) / 3.0 - Vector3::new(0.0, 0.0, 1.0);
+            assert!(n.dot(&centroid) > 0.0);
+        }
+        let p = Mesh::plane([0.0; 3], 2.0, 3).unwrap();
+        assert_eq!((p.positions().len(), p.triangles().len()), (16, 18));
+        let computed = Mesh::new(p.positions().to_vec(), None, p.triangles().to_vec()).unwrap();
+        assert_eq!(computed.normals()[5], [0.0, 0.0, 1.0]);
+        let e = Mesh::new(
+            vec![[0.0; 3], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]],
+            None,
+            vec![[0, 1, 2]],
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("degenerate"), "{e}");
+        let e = Mesh::new(vec![[0.0; 3]], None, vec![[0, 1, 2]]).unwrap_err();
+        assert!(e.to_string().contains("out of range"), "{e}");
+        let e = Mesh::from_obj("/nonexistent/x.obj").unwrap_err();
+        assert!(e.to_string().contains("x.obj"), "{e}");
+    }
+}

@@ -1,0 +1,19 @@
+//! Precomputed polarized radiance transfer (PSH Sec. 7): scenes of meshes and pBRDFs
+//! under a polarized environment, per-vertex transfer with triple-product shadows,
+//! runtime evaluation in the camera's frames, pictures and a report.
+//!
+//! | module | what | source |
+//! |---|---|---|
+//! | [`mesh`] | triangle meshes: procedural, OBJ | |
+//! | [`sky`] | analytic Rayleigh sky with a sun | Chandrasekhar §17 |
+//! | [`scene`] | materials, camera, BVH ray queries | |
+//! | [`transfer`] | visibility, PSH (54)-(56), (35)-(37), (41) per vertex | PSH Sec. 7 |
+//! | [`render`] | runtime frame, camera frames, polarizer images | PSH (14), (30) |
+//! | [`job`] | the built-in scene and the render job (`cargo run --release`) | |
+
+pub mod job;
+pub mod mesh;
+pub mod render;
+pub mod scene;
+pub mod sky;
+pub mod transfer;

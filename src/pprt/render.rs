@@ -1,0 +1,150 @@
+//! The runtime of PPRT: the outgoing Stokes vector of every vertex towards the camera,
+//! expressed in the camera's frame field before it is interpolated across triangles, and
+//! the image by primary visibility (ray cast once per camera through the BVH).
+//!
+//! Image components are in the camera's frames in the convention of the shared maps and
+//! of Mitsuba 3's polarized sensors (`docs/conventions.md`): at a pixel with direction `d`
+//! into the scene, `[x, -y, -d]` of psh's perspective frame `[x, y, d]`
+//! ([`crate::geometry::frame::PerspectiveFrameField`]), `z` along the light's travel,
+//! `x` image-right, `y` image-up.
+
+use super::scene::{Hit, Scene};
+use super::transfer::VertexTransfer;
+use crate::error::Result;
+use crate::geometry::frame::{Frame, FrameField, PerspectiveFrameField};
+use crate::stokes::StokesVector;
+use nalgebra::Vector3;
+use rayon::prelude::*;
+
+/// Stokes components per channel `[c][pixel]` of a `width x height` image (row-major,
+/// top row first) and the mask of pixels that see a surface.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StokesImage {
+    pub width: usize,
+    pub height: usize,
+    pub channels: Vec<Vec<[f64; 4]>>,
+    pub surface: Vec<bool>,
+}
+
+impl StokesImage {
+    /// The intensity seen through an ideal linear polarizer at `angle` (radians, from
+    /// image-right towards image-up), channel `c`: `(s0 + s1 cos 2a + s2 sin 2a) / 2`
+    /// (PF (8) applied to the Stokes vector).
+    pub fn through_polarizer(&self, c: usize, angle: f64) -> Vec<f64> {
+        let (c2, s2) = ((2.0 * angle).cos(), (2.0 * angle).sin());
+        self.channels[c]
+            .iter()
+            .map(|s| 0.5 * (s[0] + s[1] * c2 + s[2] * s2))
+            .collect()
+    }
+}
+
+/// Primary visibility: the nearest hit through every pixel centre (computed once per
+/// camera).
+pub fn primary_hits(scene: &Scene) -> Vec<Option<Hit>> {
+    let cam = scene.camera();
+    (0..cam.width * cam.height)
+        .into_par_iter()
+        .map(|k| {
+            let d = cam.pixel_direction(k % cam.width, k / cam.width);
+            scene.intersect(cam.position, d, 0.0)
+        })
+        .collect()
+}
+
+/// The camera's frame at the light travelling along `v` towards it: `[x, -y, v]` of
+/// psh's perspective frame `[x, y, -v]` at the pixel direction `-v`.
+fn camera_travel_frame(field: &PerspectiveFrameField, v: [f64; 3]) -> Result<Frame> {
+    let f = field.frame([-v[0], -v[1], -v[2]])?;
+    let (x, y) = (f.x(), f.y());
+    Frame::new([x.x, x.y, x.z], [-y.x, -y.y, -y.z], v)
+}
+
+/// The environment seen directly through the pixels without a hit (its band-limited PSH
+/// coefficients, PSH (30)), in the camera's frames; zero where a surface is hit.
+/// Computed once per camera.
+pub fn background(scene: &Scene, hits: &[Option<Hit>]) -> Result<Vec<[[f64; 4]; 3]>> {
+    let cam = scene.camera();
+    let field = PerspectiveFrameField::new(cam.frame);
+    let env = scene.environment();
+    hits.par_iter()
+        .enumerate()
+        .map(|(k, hit)| {
+            let mut s = [[0.0; 4]; 3];
+            if hit.is_none() {
+                let d = cam.pixel_direction(k % cam.width, k / cam.width);
+                let frame = field.frame(d)?;
+                for (sc, v) in s.iter_mut().zip(env.evaluate_all(d)?) {
+                    let x = v.components_in(&frame)?.to_array();
+                    // psh's frame [x, y, d] to the travel frame [x, -y, -d].
+                    *sc = [x[0], x[1], -x[2], -x[3]];
+                }
+            }
+            Ok(s)
+        })
+        .collect()
+}
+
+/// One frame: vertex Stokes vectors towards the camera in its frames (PSH (30) in the
+/// shading frame, carried to world and read in the camera frame by PSH (14)), then
+/// interpolated with the hits' barycentric coordinates. Pixels without a hit show
+/// `background` ([`background`]).
+pub fn render_frame(
+    scene: &Scene,
+    transfer: &[Vec<VertexTransfer>],
+    hits: &[Option<Hit>],
+    background: &[[[f64; 4]; 3]],
+) -> Result<StokesImage> {
+    let cam = scene.camera();
+    let field = PerspectiveFrameField::new(cam.frame);
+    let eye = Vector3::from(cam.position);
+    let vertex_stokes: Vec<Vec<[[f64; 4]; 3]>> = scene
+        .objects()
+        .iter()
+        .zip(transfer)
+        .map(|(o, t)| {
+            o.mesh
+                .positions()
+                .par_iter()
+                .zip(t)
+                .map(|(p, vt)| {
+                    let v = (eye - Vector3::from(*p)).normalize();
+                    let wo = [v.x, v.y, v.z];
+                    let local = vt.rotation.inverse() * v;
+                    let out_frame = camera_travel_frame(&field, wo)?;
+                    let mut s = [[0.0; 4]; 3];
+                    let all = vt.radiance.evaluate_all([local.x, local.y, local.z])?;
+                    for (sc, sl) in s.iter_mut().zip(all) {
+                        let world =
+                            StokesVector::new(sl.components(), sl.frame().rotated(&vt.rotation)?);
+                        *sc = world.components_in(&out_frame)?.to_array();
+                    }
+                    Ok(s)
+                })
+                .collect::<Result<Vec<_>>>()
+        })
+        .collect::<Result<_>>()?;
+    let pixels: Vec<[[f64; 4]; 3]> = hits
+        .par_iter()
+        .zip(background)
+        .map(|(hit, bg)| match hit {
+            Some(h) => {
+                let t = scene.objects()[h.object].mesh.triangles()[h.triangle];
+                let w = [1.0 - h.u - h.v, h.u, h.v];
+                let vs = &vertex_stokes[h.object];
+                std::array::from_fn(|c| {
+                    std::array::from_fn(|p| (0..3).map(|i| w[i] * vs[t[i] as usize][c][p]).sum())
+                })
+            }
+            None => *bg,
+        })
+        .collect();
+    Ok(StokesImage {
+        width: cam.width,
+        height: cam.height,
+        channels: (0..3)
+            .map(|c| pixels.iter().map(|p| p[c]).collect())
+            .collect(),
+        surface: hits.iter().map(Option::is_some).collect(),
+    })
+}

@@ -1,0 +1,275 @@
+//! Scenes: meshes with materials, the environment's PSH coefficients and a camera; ray
+//! queries through a bounding volume hierarchy (the `bvh` crate).
+
+use super::mesh::Mesh;
+use crate::error::{Error, Result};
+use crate::optics::{Channel, Conductor, Material, PolarizedPlastic};
+use crate::polarized::{project_operator, PshMatrix, PshVector, SpinBlock22};
+use bvh::aabb::{Aabb, Bounded};
+use bvh::bounding_hierarchy::BHShape;
+use bvh::bvh::Bvh;
+use bvh::ray::Ray;
+use nalgebra::{Point3, Vector3};
+
+/// A pBRDF of the scene, RGB.
+#[derive(Clone, Debug)]
+pub enum SceneMaterial {
+    /// A dielectric with a depolarizing diffuse base ([`PolarizedPlastic`]), the same in
+    /// every channel.
+    Plastic(PolarizedPlastic),
+    /// A conductor of the PF table with GGX roughness `alpha` ([`Conductor::from_material`]).
+    Conductor { material: Material, alpha: f64 },
+}
+
+impl SceneMaterial {
+    /// The PSH coefficient matrices (RGB) in the shading frame (normal `+z`), band limit
+    /// `lmax`, projected on the exact grid of `2 lmax + 2`.
+    pub fn matrices(&self, lmax: usize) -> Result<[PshMatrix; 3]> {
+        let grid = 2 * lmax + 2;
+        let project = |c: Channel| -> Result<PshMatrix> {
+            match self {
+                Self::Plastic(p) => project_operator(p, lmax, grid, SpinBlock22::ComplexPair),
+                Self::Conductor { material, alpha } => project_operator(
+                    &Conductor::from_material(*alpha, *material, c)?,
+                    lmax,
+                    grid,
+                    SpinBlock22::ComplexPair,
+                ),
+            }
+        };
+        match self {
+            Self::Plastic(_) => {
+                let m = project(Channel::Red)?;
+                Ok([m.clone(), m.clone(), m])
+            }
+            Self::Conductor { .. } => Ok([
+                project(Channel::Red)?,
+                project(Channel::Green)?,
+                project(Channel::Blue)?,
+            ]),
+        }
+    }
+}
+
+/// A pinhole camera: position, frame (`x` image-right, `y` image-down, `z` forward),
+/// vertical field of view and image size.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Camera {
+    pub position: [f64; 3],
+    pub frame: crate::geometry::frame::Frame,
+    pub fov_y: f64,
+    pub width: usize,
+    pub height: usize,
+}
+
+impl Camera {
+    /// A camera at `position` looking at `target` with world up `+z`.
+    pub fn look_at(
+        position: [f64; 3],
+        target: [f64; 3],
+        fov_y: f64,
+        width: usize,
+        height: usize,
+    ) -> Result<Self> {
+        let f = Vector3::from(target) - Vector3::from(position);
+        if f.norm() == 0.0 || width == 0 || height == 0 || !(fov_y > 0.0 && fov_y < 3.0) {
+            return Err(Error::InvalidArgument {
+                name: "camera",
+                value: format!("{position:?} -> {target:?}, fov {fov_y}, {width} x {height}"),
+                reason: "distinct position and target, fov in (0, 3) radians, non-empty image"
+                    .into(),
+            });
+        }
+        let f = f.normalize();
+        let frame = crate::geometry::frame::Frame::from_z_and_y([f.x, f.y, f.z], [0.0, 0.0, -1.0])?;
+        Ok(Self {
+            position,
+            frame,
+            fov_y,
+            width,
+            height,
+        })
+    }
+
+    /// The unit direction into the scene through the centre of pixel `(i, j)` (column,
+    /// row from the top).
+    pub fn pixel_direction(&self, i: usize, j: usize) -> [f64; 3] {
+        let t = (0.5 * self.fov_y).tan();
+        let aspect = self.width as f64 / self.height as f64;
+        let x = (2.0 * (i as f64 + 0.5) / self.width as f64 - 1.0) * t * aspect;
+        let y = (2.0 * (j as f64 + 0.5) / self.height as f64 - 1.0) * t;
+        let d = (self.frame.x() * x + self.frame.y() * y + self.frame.z()).normalize();
+        [d.x, d.y, d.z]
+    }
+}
+
+/// A mesh with the index of its material.
+#[derive(Clone, Debug)]
+pub struct SceneObject {
+    pub mesh: Mesh,
+    pub material: usize,
+}
+
+/// One triangle for the BVH.
+struct Tri {
+    object: usize,
+    index: usize,
+    aabb: Aabb<f64, 3>,
+    node: usize,
+}
+
+impl Bounded<f64, 3> for Tri {
+    fn aabb(&self) -> Aabb<f64, 3> {
+        self.aabb
+    }
+}
+
+impl BHShape<f64, 3> for Tri {
+    fn set_bh_node_index(&mut self, index: usize) {
+        self.node = index;
+    }
+    fn bh_node_index(&self) -> usize {
+        self.node
+    }
+}
+
+/// A ray hit: object, triangle, distance and barycentric coordinates `(u, v)` of the
+/// second and third vertices.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    pub object: usize,
+    pub triangle: usize,
+    pub distance: f64,
+    pub u: f64,
+    pub v: f64,
+}
+
+/// Objects, materials, environment (PSH coefficients, RGB) and camera, with a BVH over
+/// every triangle.
+pub struct Scene {
+    objects: Vec<SceneObject>,
+    materials: Vec<SceneMaterial>,
+    environment: PshVector,
+    camera: Camera,
+    tris: Vec<Tri>,
+    bvh: Bvh<f64, 3>,
+}
+
+impl Scene {
+    /// Errors: an object naming a material that does not exist, an environment without 3
+    /// channels.
+    pub fn new(
+        objects: Vec<SceneObject>,
+        materials: Vec<SceneMaterial>,
+        environment: PshVector,
+        camera: Camera,
+    ) -> Result<Self> {
+        if let Some((k, o)) = objects
+            .iter()
+            .enumerate()
+            .find(|(_, o)| o.material >= materials.len())
+        {
+            return Err(Error::InvalidArgument {
+                name: "object material",
+                value: format!("object {k}: material {}", o.material),
+                reason: format!("{} materials", materials.len()),
+            });
+        }
+        if environment.channels() != 3 {
+            return Err(Error::InvalidArgument {
+                name: "environment",
+                value: format!("{} channels", environment.channels()),
+                reason: "RGB (3 channels)".into(),
+            });
+        }
+        let mut tris = Vec::new();
+        for (object, o) in objects.iter().enumerate() {
+            let p = o.mesh.positions();
+            for (index, t) in o.mesh.triangles().iter().enumerate() {
+                let mut aabb = Aabb::empty();
+                for &i in t {
+                    aabb.grow_mut(&Point3::from(p[i as usize]));
+                }
+                tris.push(Tri {
+                    object,
+                    index,
+                    aabb,
+                    node: 0,
+                });
+            }
+        }
+        let bvh = Bvh::build(&mut tris);
+        Ok(Self {
+            objects,
+            materials,
+            environment,
+            camera,
+            tris,
+            bvh,
+        })
+    }
+
+    pub fn objects(&self) -> &[SceneObject] {
+        &self.objects
+    }
+
+    pub fn materials(&self) -> &[SceneMaterial] {
+        &self.materials
+    }
+
+    pub fn environment(&self) -> &PshVector {
+        &self.environment
+    }
+
+    pub fn camera(&self) -> &Camera {
+        &self.camera
+    }
+
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.tris.len()
+    }
+
+    /// The nearest hit along the ray (either side of a triangle), beyond `t_min`.
+    pub fn intersect(&self, origin: [f64; 3], direction: [f64; 3], t_min: f64) -> Option<Hit> {
+        let ray = Ray::new(Point3::from(origin), Vector3::from(direction));
+        let mut best: Option<Hit> = None;
+        for tri in self.bvh.traverse_iterator(&ray, &self.tris) {
+            if let Some(h) = self.hit_triangle(&ray, tri, t_min) {
+                if best.is_none_or(|b| h.distance < b.distance) {
+                    best = Some(h);
+                }
+            }
+        }
+        best
+    }
+
+    /// Whether anything is hit along the ray beyond `t_min`.
+    pub fn occluded(&self, origin: [f64; 3], direction: [f64; 3], t_min: f64) -> bool {
+        let ray = Ray::new(Point3::from(origin), Vector3::from(direction));
+        self.bvh
+            .traverse_iterator(&ray, &self.tris)
+            .any(|tri| self.hit_triangle(&ray, tri, t_min).is_some())
+    }
+
+    fn hit_triangle(&self, ray: &Ray<f64, 3>, tri: &Tri, t_min: f64) -> Option<Hit> {
+        let mesh = &self.objects[tri.object].mesh;
+        let t = mesh.triangles()[tri.index];
+        let [a, b, c] = t.map(|i| Point3::from(mesh.positions()[i as usize]));
+        // Both sides: the crate's test culls back faces.
+        let front = ray.intersects_triangle(&a, &b, &c);
+        let (d, u, v) = if front.distance.is_finite() {
+            (front.distance, front.u, front.v)
+        } else {
+            let back = ray.intersects_triangle(&a, &c, &b);
+            (back.distance, back.v, back.u)
+        };
+        (d.is_finite() && d > t_min).then_some(Hit {
+            object: tri.object,
+            triangle: tri.index,
+            distance: d,
+            u,
+            v,
+        })
+    }
+}

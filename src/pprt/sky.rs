@@ -1,0 +1,121 @@
+//! A built-in analytic polarized sky: single-scattering Rayleigh skylight plus a sun.
+//!
+//! Light reaching the observer from the sky direction `w` was scattered once by an angle
+//! `g` with `cos g = w . s` (`s` towards the sun). Rayleigh scattering of unpolarized
+//! sunlight gives radiance proportional to `1 + cos^2 g` with degree of linear polarization
+//! `sin^2 g / (1 + cos^2 g)`, polarized perpendicular to the scattering plane: the electric
+//! field along `e = normalize(w x s)` (Chandrasekhar, Radiative Transfer, §17). The sun is a
+//! smooth unpolarized lobe `exp(k (w . s - 1))`; below the horizon an unpolarized ground
+//! radiance takes over smoothly (`tanh` blend over about 6 degrees), so that the
+//! band-limited projection does not ring at a step.
+
+use crate::error::{Error, Result};
+use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
+use crate::polarized::{Codomain, PshTransform, PshVector};
+use nalgebra::Vector3;
+
+/// The sky (module docs), RGB.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RayleighSky {
+    sun: Vector3<f64>,
+    /// Sky radiance scale per channel (bluish).
+    sky: [f64; 3],
+    /// Sun lobe peak radiance and sharpness `k`.
+    sun_peak: f64,
+    sun_sharpness: f64,
+    ground: [f64; 3],
+}
+
+impl RayleighSky {
+    /// A sky with the sun at elevation `elevation` and azimuth `azimuth` (radians, from
+    /// `+x` towards `+y`). Error: non-finite angles or an elevation outside
+    /// `[-pi/2, pi/2]`.
+    pub fn new(elevation: f64, azimuth: f64) -> Result<Self> {
+        if !(elevation.is_finite() && azimuth.is_finite())
+            || elevation.abs() > std::f64::consts::FRAC_PI_2
+        {
+            return Err(Error::InvalidArgument {
+                name: "sun direction",
+                value: format!("elevation {elevation}, azimuth {azimuth}"),
+                reason: "finite angles, elevation in [-pi/2, pi/2]".into(),
+            });
+        }
+        let (ce, se) = (elevation.cos(), elevation.sin());
+        Ok(Self {
+            sun: Vector3::new(ce * azimuth.cos(), ce * azimuth.sin(), se),
+            sky: [0.35, 0.55, 0.9],
+            sun_peak: 20.0,
+            sun_sharpness: 60.0,
+            ground: [0.12, 0.11, 0.1],
+        })
+    }
+
+    /// The Stokes components of channel `c` arriving from the unit direction `w`, in the
+    /// theta-phi frame at `w` (psh's convention: `w` towards the source).
+    pub fn stokes(&self, c: usize, w: [f64; 3]) -> Result<[f64; 4]> {
+        let frame = ThetaPhiFrameField::new().frame(w)?;
+        let wv = Vector3::from(w);
+        let cos_g = wv.dot(&self.sun).clamp(-1.0, 1.0);
+        let sin2 = 1.0 - cos_g * cos_g;
+        let intensity = self.sky[c] * 0.75 * (1.0 + cos_g * cos_g);
+        let dop = sin2 / (1.0 + cos_g * cos_g);
+        // The field direction e = w x s; its angle chi from the frame's x.
+        let e = wv.cross(&self.sun);
+        let chi = e.dot(&frame.y()).atan2(e.dot(&frame.x()));
+        let (s1, s2) = if e.norm() > 1e-12 {
+            (
+                intensity * dop * (2.0 * chi).cos(),
+                intensity * dop * (2.0 * chi).sin(),
+            )
+        } else {
+            (0.0, 0.0)
+        };
+        let sun = self.sun_peak * (self.sun_sharpness * (cos_g - 1.0)).exp();
+        let up = 0.5 * (1.0 + (w[2] / 0.1).tanh());
+        Ok([
+            up * (intensity + sun) + (1.0 - up) * self.ground[c],
+            up * s1,
+            up * s2,
+            0.0,
+        ])
+    }
+
+    /// PSH coefficients (RGB, `s0..s3`) of band limit `lmax`, projected on the exact grid.
+    pub fn project(&self, lmax: usize) -> Result<PshVector> {
+        let t = PshTransform::new(lmax.max(2))?;
+        let g = t.grid();
+        let dirs = (0..g.len())
+            .map(|i| g.direction(i))
+            .collect::<Result<Vec<_>>>()?;
+        let channels = (0..3)
+            .map(|c| {
+                dirs.iter()
+                    .map(|&w| self.stokes(c, w))
+                    .collect::<Result<Vec<_>>>()
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let refs: Vec<&[[f64; 4]]> = channels.iter().map(Vec::as_slice).collect();
+        t.project_channels(&refs, Codomain::Full)?.truncated(lmax)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// 90 degrees from the sun the skylight is fully polarized, perpendicular to the
+    /// scattering plane; towards the sun it is unpolarized.
+    #[test]
+    fn rayleigh_polarization() {
+        let sky = RayleighSky::new(0.0, 0.0).unwrap(); // sun along +x on the horizon
+        let s = sky.stokes(2, [0.0, 0.0, 1.0 - 1e-16]).unwrap();
+        let lin = s[1].hypot(s[2]);
+        assert!((lin / (s[0] - sky.sun_peak * (-sky.sun_sharpness).exp()) - 1.0).abs() < 1e-9);
+        // At the zenith the theta-phi frame has x = +x: the field along w x s = +y,
+        // angle 90 degrees, so s1 < 0, s2 = 0.
+        assert!(s[1] < 0.0 && s[2].abs() < 1e-9 * lin, "{s:?}");
+        let toward = sky.stokes(0, [1.0, 0.0, 0.0]).unwrap();
+        assert_eq!((toward[1], toward[2]), (0.0, 0.0));
+        assert!(RayleighSky::new(2.0, 0.0).is_err());
+    }
+}

@@ -1,0 +1,145 @@
+//! Precomputation of polarized radiance transfer (PSH Sec. 7) for the vertices of a scene:
+//! visibility by ray casting, its scalar SH vector, the shadowed environment by the triple
+//! product PSH (54)-(56), turned into the vertex's shading frame (PSH (35)-(37)) and
+//! reflected by the pBRDF's coefficient matrix PSH (41).
+//!
+//! The result per vertex is the outgoing radiance field `P V f` as PSH coefficients in the
+//! vertex's shading frame (normal `+z`), so a frame costs one evaluation per vertex.
+//! Equivalently `D P D^T V f` in world coordinates (PSH (59)): the pBRDF rotated to the
+//! vertex. The environment is fixed at precomputation; a new environment re-runs the
+//! products, not the ray casting (the visibility vectors are kept).
+
+use super::scene::Scene;
+use crate::error::{Error, Result};
+use crate::geometry::frame::Frame;
+use crate::polarized::{Codomain, PshRotation, PshVector, TripleTable};
+use crate::sh::harmonics::ShEvaluator;
+use crate::sh::num_coeffs;
+use nalgebra::Rotation3;
+use rayon::prelude::*;
+
+/// Settings of the precomputation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TransferSettings {
+    /// Band limit of the transfer (`l <= l_low`).
+    pub l_low: usize,
+    /// Visibility rays per vertex (quasi-uniform Fibonacci directions).
+    pub rays: usize,
+    /// Shadows (visibility) on or off.
+    pub shadows: bool,
+}
+
+/// The transfer of one vertex.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VertexTransfer {
+    /// Shading frame to world (`R z = n`).
+    pub rotation: Rotation3<f64>,
+    /// Visibility as real SH (`l <= 2 l_low`), empty without shadows.
+    pub visibility: Vec<f64>,
+    /// Outgoing radiance (RGB, `s0..s3`, `l <= l_low`) in the shading frame.
+    pub radiance: PshVector,
+}
+
+/// The `n` Fibonacci directions on the sphere (quasi-uniform, equal weights `4 pi / n`).
+pub fn fibonacci_directions(n: usize) -> Vec<[f64; 3]> {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    (0..n)
+        .map(|k| {
+            let z = 1.0 - (2 * k + 1) as f64 / n as f64;
+            let r = (1.0 - z * z).sqrt();
+            let p = golden * k as f64;
+            [r * p.cos(), r * p.sin(), z]
+        })
+        .collect()
+}
+
+/// Transfer of every vertex of every object, `[object][vertex]`. Errors: `l_low` below 2
+/// or above 20, no rays with shadows on.
+pub fn precompute(scene: &Scene, settings: TransferSettings) -> Result<Vec<Vec<VertexTransfer>>> {
+    let l = settings.l_low;
+    if !(2..=20).contains(&l) || (settings.shadows && settings.rays == 0) {
+        return Err(Error::InvalidArgument {
+            name: "transfer settings",
+            value: format!("l_low {l}, {} rays", settings.rays),
+            reason: "2 <= l_low <= 20, and rays > 0 with shadows".into(),
+        });
+    }
+    let lv = 2 * l;
+    let dirs = fibonacci_directions(settings.rays.max(1));
+    let nv = num_coeffs(lv);
+    let mut basis = vec![0.0; dirs.len() * nv];
+    ShEvaluator::new(lv)?.real_batch(&dirs, &mut basis)?;
+    let table = if settings.shadows {
+        Some(TripleTable::new(lv, l)?)
+    } else {
+        None
+    };
+    let env = scene
+        .environment()
+        .truncated(l)?
+        .with_codomain(Codomain::Full);
+    let materials = scene
+        .materials()
+        .iter()
+        .map(|m| m.matrices(l))
+        .collect::<Result<Vec<_>>>()?;
+    let scale = bounding_scale(scene);
+    scene
+        .objects()
+        .iter()
+        .map(|o| {
+            let mats = &materials[o.material];
+            o.mesh
+                .positions()
+                .par_iter()
+                .zip(o.mesh.normals())
+                .map(|(p, n)| {
+                    let rotation = Frame::from_z(*n)?.rotation();
+                    let (visibility, shadowed) = match &table {
+                        Some(t) => {
+                            let origin: [f64; 3] =
+                                std::array::from_fn(|k| p[k] + 1e-4 * scale * n[k]);
+                            let mut v = vec![0.0; nv];
+                            let w = 4.0 * std::f64::consts::PI / dirs.len() as f64;
+                            for (d, y) in dirs.iter().zip(basis.chunks_exact(nv)) {
+                                if !scene.occluded(origin, *d, 0.0) {
+                                    v.iter_mut().zip(y).for_each(|(a, b)| *a += w * b);
+                                }
+                            }
+                            let s = t.transfer(&v)?.apply(&env)?;
+                            (v, s)
+                        }
+                        None => (Vec::new(), env.clone()),
+                    };
+                    let local = PshRotation::new(&rotation.inverse(), l)?.rotate(&shadowed)?;
+                    let parts = (0..3)
+                        .map(|c| mats[c].apply(&local.channel(c)?))
+                        .collect::<Result<Vec<_>>>()?;
+                    Ok(VertexTransfer {
+                        rotation,
+                        visibility,
+                        radiance: PshVector::from_channels(&parts)?,
+                    })
+                })
+                .collect::<Result<Vec<_>>>()
+        })
+        .collect()
+}
+
+/// The diagonal of the scene's bounding box (for ray offsets).
+fn bounding_scale(scene: &Scene) -> f64 {
+    let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
+    for o in scene.objects() {
+        for p in o.mesh.positions() {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+    }
+    (0..3)
+        .map(|k| (hi[k] - lo[k]).powi(2))
+        .sum::<f64>()
+        .sqrt()
+        .max(1e-12)
+}
