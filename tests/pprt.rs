@@ -92,3 +92,98 @@ fn pprt_equals_direct_integration_without_shadows() {
 fn pprt_equals_direct_integration_with_shadows() {
     check(true);
 }
+
+/// Scene files: a small scene renders (pictures, EXR and report written); bad files are
+/// errors naming the file and the field.
+#[test]
+fn scene_files_render_and_bad_ones_are_errors() {
+    use psh::pprt::job::render_job;
+    use psh::pprt::scene_file::load_scene;
+    let dir = std::env::temp_dir().join(format!("psh-scene-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let good = r#"
+[environment]
+type = "sky"
+sun_elevation_deg = 40.0
+sun_azimuth_deg = 120.0
+
+[camera]
+position = [0.0, -4.0, 2.0]
+target = [0.0, 0.0, 0.5]
+fov_deg = 45.0
+width = 40
+height = 30
+
+[settings]
+l_low = 3
+rays = 32
+
+[[material]]
+name = "gold"
+type = "conductor"
+table = "Gold"
+alpha = 0.3
+
+[[material]]
+name = "floor"
+type = "plastic"
+alpha = 0.5
+ior = 1.5
+albedo = 0.5
+
+[[mesh]]
+type = "sphere"
+center = [0.0, 0.0, 0.6]
+radius = 0.6
+material = "gold"
+
+[[mesh]]
+type = "plane"
+center = [0.0, 0.0, 0.0]
+half_size = 3.0
+material = "floor"
+"#;
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, good).unwrap();
+    let (scene, settings) = load_scene(&path, 5).unwrap();
+    assert_eq!(
+        (settings.l_low, settings.rays, settings.shadows),
+        (3, 32, true)
+    );
+    let report = render_job(&scene, settings, &[0.0, 90.0], &dir.join("out")).unwrap();
+    assert_eq!(report["counts"]["primary_rays"], 1200);
+    for f in [
+        "render_s0.png",
+        "render_dop.png",
+        "polarizer_90.png",
+        "render_s2.exr",
+        "report.json",
+    ] {
+        assert!(dir.join("out").join(f).exists(), "{f}");
+    }
+    let cases = [
+        (
+            good.replace("material = \"gold\"", "material = \"silver\""),
+            "'silver' is not defined",
+        ),
+        (
+            good.replace("table = \"Gold\"", "table = \"Unobtainium\""),
+            "Unobtainium",
+        ),
+        (good.replace("radius = 0.6", "radius = -1.0"), "mesh 0"),
+        (good.replace("fov_deg = 45.0", "fov = 45.0"), "fov"),
+        (
+            good.replace(
+                "type = \"sky\"\nsun_elevation_deg = 40.0\nsun_azimuth_deg = 120.0",
+                "type = \"npz\"\npath = \"absent.npz\"",
+            ),
+            "absent.npz",
+        ),
+    ];
+    for (k, (text, what)) in cases.iter().enumerate() {
+        let p = dir.join(format!("bad{k}.toml"));
+        std::fs::write(&p, text).unwrap();
+        let e = load_scene(&p, 5).err().expect("an error").to_string();
+        assert!(e.contains(what), "{k}: {e}");
+    }
+}

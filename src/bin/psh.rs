@@ -61,19 +61,26 @@ enum Command {
 
 #[derive(Args)]
 struct RenderArgs {
+    /// A scene file (TOML, format in src/pprt/scene_file.rs and docs/pprt.md); the
+    /// built-in scene when absent. Its [settings] are overridden by the options given.
+    #[arg(long)]
+    scene: Option<PathBuf>,
+    /// Band limit of the environment shown in the background (at least l_low).
+    #[arg(long, default_value_t = 9)]
+    l_high: usize,
     /// Output directory.
     #[arg(long, default_value = "psh-out")]
     out: PathBuf,
-    /// Band limit of the transfer (l <= l_low).
-    #[arg(long, default_value_t = 4)]
-    l_low: usize,
-    /// Visibility rays per vertex.
-    #[arg(long, default_value_t = 256)]
-    rays: usize,
+    /// Band limit of the transfer (l <= l_low; default 4, or the scene file's).
+    #[arg(long)]
+    l_low: Option<usize>,
+    /// Visibility rays per vertex (default 256, or the scene file's).
+    #[arg(long)]
+    rays: Option<usize>,
     /// Render without shadows (no visibility rays).
     #[arg(long)]
     no_shadows: bool,
-    /// Image size WxH.
+    /// Image size WxH of the built-in scene (a scene file gives its camera's).
     #[arg(long, default_value = "480x360")]
     size: String,
     /// Polarizer angles in degrees (from image-right towards image-up), comma-separated.
@@ -84,9 +91,11 @@ struct RenderArgs {
 impl Default for RenderArgs {
     fn default() -> Self {
         Self {
+            scene: None,
+            l_high: 9,
             out: "psh-out".into(),
-            l_low: 4,
-            rays: 256,
+            l_low: None,
+            rays: None,
             no_shadows: false,
             size: "480x360".into(),
             polarizer: "0,45,90,135".into(),
@@ -473,17 +482,33 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
                 .ok_or_else(|| bad("--polarizer", x, "angles in degrees, comma-separated"))
         })
         .collect::<psh::Result<Vec<_>>>()?;
-    let settings = psh::pprt::transfer::TransferSettings {
-        l_low: a.l_low,
-        rays: a.rays,
-        shadows: !a.no_shadows,
+    let (scene, file_settings, name) = match &a.scene {
+        Some(path) => {
+            let (scene, settings) =
+                psh::pprt::scene_file::load_scene(path, a.l_high.max(a.l_low.unwrap_or(0)))?;
+            (scene, settings, path.display().to_string())
+        }
+        None => {
+            let settings = psh::pprt::transfer::TransferSettings {
+                l_low: 4,
+                rays: 256,
+                shadows: true,
+            };
+            let lmax = a.l_high.max(a.l_low.unwrap_or(settings.l_low));
+            let scene = psh::pprt::job::builtin_scene(lmax, w, h)?;
+            (scene, settings, "the built-in scene".to_string())
+        }
     };
-    let scene = psh::pprt::job::builtin_scene(a.l_low.max(9), w, h)?;
+    let settings = psh::pprt::transfer::TransferSettings {
+        l_low: a.l_low.unwrap_or(file_settings.l_low),
+        rays: a.rays.unwrap_or(file_settings.rays),
+        shadows: file_settings.shadows && !a.no_shadows,
+    };
     eprintln!(
-        "rendering the built-in scene ({} triangles, l_low {}, {} rays per vertex) into {}",
+        "rendering {name} ({} triangles, l_low {}, {} rays per vertex) into {}",
         scene.triangle_count(),
-        a.l_low,
-        a.rays,
+        settings.l_low,
+        settings.rays,
         a.out.display()
     );
     psh::pprt::job::render_job(&scene, settings, &polarizers, &a.out)

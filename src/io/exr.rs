@@ -110,16 +110,39 @@ pub fn read_stokes_map(pattern: &str) -> Result<StokesMap> {
 /// Writes a map as four component files (`pattern` with `%d`, or one component's file
 /// name), 32-bit float, lossless; returns the paths written.
 pub fn write_stokes_map(map: &StokesMap, pattern: &str) -> Result<Vec<PathBuf>> {
+    let stored: Vec<Vec<[f64; 4]>> = map
+        .channels()
+        .iter()
+        .map(|ch| ch.iter().map(|s| reverse_frame(*s)).collect())
+        .collect();
+    write_stokes_image(
+        &stored,
+        map.layout().width(),
+        map.layout().height(),
+        pattern,
+    )
+}
+
+/// Writes a `w x h` image (row-major, top row first) given per channel as Stokes
+/// components in the frames they are stored in, one file per component as
+/// [`write_stokes_map`]. Error: a channel of another length.
+pub fn write_stokes_image(
+    stored: &[Vec<[f64; 4]>],
+    w: usize,
+    h: usize,
+    pattern: &str,
+) -> Result<Vec<PathBuf>> {
+    for c in stored {
+        crate::error::check_len("Stokes image channel", w * h, c.len())?;
+    }
     let paths = component_paths(pattern)?;
-    let (h, w) = (map.layout().height(), map.layout().width());
-    let names = channel_names(map.channels().len());
+    let names = channel_names(stored.len());
     for (p, path) in paths.iter().enumerate() {
-        let list: SmallVec<[AnyChannel<FlatSamples>; 4]> = map
-            .channels()
+        let list: SmallVec<[AnyChannel<FlatSamples>; 4]> = stored
             .iter()
             .zip(&names)
             .map(|(ch, name)| {
-                let values = ch.iter().map(|s| reverse_frame(*s)[p] as f32).collect();
+                let values = ch.iter().map(|s| s[p] as f32).collect();
                 AnyChannel::new(name.as_str(), FlatSamples::F32(values))
             })
             .collect();

@@ -347,6 +347,24 @@ impl PshMatrix {
         Self::from_rows(self.lmax, rows.travel_convention().data())
     }
 
+    /// The block of degrees `l <= lmax` (band-limiting both sides). Error: `lmax` above
+    /// this matrix's.
+    pub fn truncated(&self, lmax: usize) -> Result<PshMatrix> {
+        if lmax > self.lmax {
+            return Err(Error::InvalidArgument {
+                name: "lmax",
+                value: lmax.to_string(),
+                reason: format!("the matrix has lmax {}", self.lmax),
+            });
+        }
+        let (n, m) = (num_coeffs(self.lmax), num_coeffs(lmax));
+        let mut data = Vec::with_capacity(m * m * 16);
+        for jo in 0..m {
+            data.extend_from_slice(&self.data[(jo * n) * 16..(jo * n + m) * 16]);
+        }
+        PshMatrix::from_data(lmax, data)
+    }
+
     /// The entries row-major over `(j_o p_o)` then `(j_i p_i)`.
     fn rows(&self) -> Vec<f64> {
         let n = num_coeffs(self.lmax);

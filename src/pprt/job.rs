@@ -8,6 +8,7 @@ use super::scene::{Camera, Scene, SceneMaterial, SceneObject};
 use super::sky::RayleighSky;
 use super::transfer::{precompute, TransferSettings};
 use crate::error::{Error, Result};
+use crate::io::exr::write_stokes_image;
 use crate::io::png::{srgb8, write_png, write_stokes_pngs};
 use crate::optics::{Material, PolarizedPlastic};
 use serde_json::json;
@@ -45,7 +46,8 @@ pub fn builtin_scene(lmax: usize, width: usize, height: usize) -> Result<Scene> 
     Scene::new(objects, materials, sky.project(lmax)?, camera)
 }
 
-/// Renders `scene` with `settings` into `out` (created): `{s0,s1,s2,s3,dop,aop}.png`,
+/// Renders `scene` with `settings` into `out` (created): `render_s{0..3}.exr` (components
+/// in the camera's frames, [`super::render`]), `render_{s0,s1,s2,s3,dop,aop}.png`,
 /// `polarizer_{deg}.png` for each angle in `polarizers` (degrees from image-right towards
 /// image-up) and `report.json`. Returns the report.
 pub fn render_job(
@@ -80,6 +82,13 @@ pub fn render_job(
     for &deg in polarizers {
         written.push(write_polarizer_png(&image, deg, out)?);
     }
+    let exr_pattern = out.join("render_s%d.exr");
+    written.extend(write_stokes_image(
+        &image.channels,
+        image.width,
+        image.height,
+        &exr_pattern.to_string_lossy(),
+    )?);
     let t_out = t3.elapsed().as_secs_f64();
     let vertices: usize = scene
         .objects()

@@ -16,6 +16,19 @@ pub struct Mesh {
     positions: Vec<[f64; 3]>,
     normals: Vec<[f64; 3]>,
     triangles: Vec<[u32; 3]>,
+    /// Degenerate triangles dropped when reading a file.
+    dropped: usize,
+}
+
+/// Whether a triangle has (numerically) zero area.
+fn degenerate(positions: &[[f64; 3]], t: &[u32; 3]) -> bool {
+    let [a, b, c] = t.map(|i| Vector3::from(positions[i as usize]));
+    let cross = (b - a).cross(&(c - a));
+    let edge = (b - a)
+        .norm_squared()
+        .max((c - a).norm_squared())
+        .max((c - b).norm_squared());
+    edge == 0.0 || cross.norm() <= DEGENERATE_AREA * edge
 }
 
 impl Mesh {
@@ -97,6 +110,7 @@ impl Mesh {
             positions,
             normals,
             triangles,
+            dropped: 0,
         })
     }
 
@@ -169,8 +183,9 @@ impl Mesh {
         Self::new(positions, Some(normals), triangles)
     }
 
-    /// Reads an OBJ file (all its models, triangulated; normals computed when absent).
-    /// Errors name the file and the reason.
+    /// Reads an OBJ file (all its models, triangulated; normals computed when absent;
+    /// degenerate triangles, as n-gon triangulation leaves them, dropped and counted by
+    /// [`Self::dropped`]). Errors name the file and the reason.
     pub fn from_obj(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref();
         let malformed = |reason: String| Error::MalformedFile {
@@ -205,11 +220,31 @@ impl Mesh {
                     .map(|t| [t[0] + base, t[1] + base, t[2] + base]),
             );
         }
-        if triangles.is_empty() {
-            return Err(malformed("no triangles".into()));
+        if let Some(k) = triangles
+            .iter()
+            .position(|t| t.iter().any(|&i| i as usize >= positions.len()))
+        {
+            return Err(malformed(format!(
+                "triangle {k}: vertex index out of range"
+            )));
         }
-        Self::new(positions, all_normals.then_some(normals), triangles)
-            .map_err(|e| malformed(e.to_string()))
+        let total = triangles.len();
+        triangles.retain(|t| !degenerate(&positions, t));
+        if triangles.is_empty() {
+            return Err(malformed(format!(
+                "no triangles of non-zero area ({total} in the file)"
+            )));
+        }
+        let dropped = total - triangles.len();
+        let mut mesh = Self::new(positions, all_normals.then_some(normals), triangles)
+            .map_err(|e| malformed(e.to_string()))?;
+        mesh.dropped = dropped;
+        Ok(mesh)
+    }
+
+    /// Degenerate triangles dropped when reading a file.
+    pub fn dropped(&self) -> usize {
+        self.dropped
     }
 
     /// Vertex positions.
@@ -237,6 +272,7 @@ impl Mesh {
             positions: self.positions.iter().map(turn).collect(),
             normals: self.normals.iter().map(turn).collect(),
             triangles: self.triangles.clone(),
+            dropped: self.dropped,
         }
     }
 }

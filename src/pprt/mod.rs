@@ -7,6 +7,7 @@
 //! | [`mesh`] | triangle meshes: procedural, OBJ | |
 //! | [`sky`] | analytic Rayleigh sky with a sun | Chandrasekhar §17 |
 //! | [`scene`] | materials, camera, BVH ray queries | |
+//! | [`scene_file`] | TOML scene files | |
 //! | [`transfer`] | visibility, PSH (54)-(56), (35)-(37), (41) per vertex | PSH Sec. 7 |
 //! | [`render`] | runtime frame, camera frames, polarizer images | PSH (14), (30) |
 //! | [`job`] | the built-in scene and the render job (`cargo run --release`) | |
@@ -15,5 +16,6 @@ pub mod job;
 pub mod mesh;
 pub mod render;
 pub mod scene;
+pub mod scene_file;
 pub mod sky;
 pub mod transfer;

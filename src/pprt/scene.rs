@@ -19,6 +19,9 @@ pub enum SceneMaterial {
     Plastic(PolarizedPlastic),
     /// A conductor of the PF table with GGX roughness `alpha` ([`Conductor::from_material`]).
     Conductor { material: Material, alpha: f64 },
+    /// Coefficient matrices given directly (RGB), e.g. a measured pBRDF read from a
+    /// polarsh `.npz`; truncated to the band limit asked for.
+    Matrices(Box<[PshMatrix; 3]>),
 }
 
 impl SceneMaterial {
@@ -29,6 +32,7 @@ impl SceneMaterial {
         let project = |c: Channel| -> Result<PshMatrix> {
             match self {
                 Self::Plastic(p) => project_operator(p, lmax, grid, SpinBlock22::ComplexPair),
+                Self::Matrices(_) => unreachable!("handled below"),
                 Self::Conductor { material, alpha } => project_operator(
                     &Conductor::from_material(*alpha, *material, c)?,
                     lmax,
@@ -38,6 +42,11 @@ impl SceneMaterial {
             }
         };
         match self {
+            Self::Matrices(m) => Ok([
+                m[0].truncated(lmax)?,
+                m[1].truncated(lmax)?,
+                m[2].truncated(lmax)?,
+            ]),
             Self::Plastic(_) => {
                 let m = project(Channel::Red)?;
                 Ok([m.clone(), m.clone(), m])

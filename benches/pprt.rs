@@ -1,0 +1,39 @@
+//! Criterion benches of precomputed polarized radiance transfer on the shared buddha
+//! scene (`scenes/buddha.toml`; skipped with a message when the shared data is absent).
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use psh::pprt::render::{background, primary_hits, render_frame};
+use psh::pprt::scene_file::{data_dir, load_scene};
+use psh::pprt::transfer::{precompute, TransferSettings};
+
+fn pprt(c: &mut Criterion) {
+    if !data_dir().join("polarsh/buddha.obj").exists() {
+        eprintln!("shared data missing ({}): pprt benches skipped", data_dir().display());
+        return;
+    }
+    let scene_file = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/buddha.toml");
+    let (scene, _) = load_scene(scene_file, 9).unwrap();
+    let settings = TransferSettings {
+        l_low: 4,
+        rays: 2000,
+        shadows: true,
+    };
+    let mut grp = c.benchmark_group("pprt");
+    grp.sample_size(10);
+    // 2,000 visibility rays per vertex, triple products, rotation, pBRDF product.
+    grp.bench_function("precompute/buddha", |b| {
+        b.iter(|| precompute(&scene, settings).unwrap())
+    });
+    let transfer = precompute(&scene, settings).unwrap();
+    let hits = primary_hits(&scene);
+    let bg = background(&scene, &hits).unwrap();
+    // One 512 x 512 frame after precomputation (vertex evaluation, camera frames,
+    // interpolation).
+    grp.bench_function("runtime_frame/buddha_512", |b| {
+        b.iter(|| render_frame(&scene, &transfer, &hits, &bg).unwrap())
+    });
+    grp.finish();
+}
+
+criterion_group!(benches, pprt);
+criterion_main!(benches);

@@ -1,0 +1,309 @@
+//! Scene files (TOML, `serde`): environment, camera, settings, materials and meshes.
+//!
+//! ```toml
+//! [environment]                 # one of:
+//! type = "sky"                  #   the analytic Rayleigh sky
+//! sun_elevation_deg = 35.0
+//! sun_azimuth_deg = 137.0
+//! # type = "npz", path = "..."  #   a PSH coefficient vector (polarsh .npz, RGB)
+//! # type = "exr", path = "map_s%d.exr"   # a polarized environment map
+//! # up = "y"                    #   optional: the file's up axis is y (turned to +z)
+//!
+//! [camera]
+//! position = [0.0, -4.5, 2.2]
+//! target = [0.0, 0.0, 0.5]
+//! fov_deg = 43.0
+//! width = 480
+//! height = 360
+//!
+//! [settings]                    # optional, these are the defaults
+//! l_low = 4
+//! rays = 256
+//! shadows = true
+//!
+//! [[material]]
+//! name = "glass"
+//! type = "plastic"              # or "conductor" (table = "Gold", alpha) or
+//! alpha = 0.15                  # "npz" (path: a polarsh ISOBI2 pBRDF matrix)
+//! ior = 1.5
+//! albedo = 0.2
+//!
+//! [[mesh]]
+//! type = "sphere"               # or "plane" (center, half_size) or "obj" (path, up)
+//! center = [0.0, 0.0, 0.7]
+//! radius = 0.7
+//! material = "glass"
+//! ```
+//!
+//! Paths are relative to the scene file; a path starting with `data:` is relative to the
+//! shared data directory (`$PSH_DATA_DIR`, else `../shared/data` from the working
+//! directory). Errors name the file and the field.
+
+use super::mesh::Mesh;
+use super::scene::{Camera, Scene, SceneMaterial, SceneObject};
+use super::sky::RayleighSky;
+use super::transfer::TransferSettings;
+use crate::error::{Error, Result};
+use crate::optics::{Material, PolarizedPlastic};
+use crate::polarized::{Codomain, PshRotation, PshVector};
+use nalgebra::{Rotation3, Vector3};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneFile {
+    environment: EnvironmentSpec,
+    camera: CameraSpec,
+    #[serde(default)]
+    settings: SettingsSpec,
+    material: Vec<MaterialSpec>,
+    mesh: Vec<MeshSpec>,
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
+enum EnvironmentSpec {
+    Sky {
+        sun_elevation_deg: f64,
+        sun_azimuth_deg: f64,
+    },
+    Npz {
+        path: String,
+        #[serde(default)]
+        up: Up,
+    },
+    Exr {
+        path: String,
+        #[serde(default)]
+        up: Up,
+    },
+}
+
+/// The up axis of a file's coordinates (psh's world is `+z` up).
+#[derive(Clone, Copy, Default, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum Up {
+    #[default]
+    Z,
+    Y,
+}
+
+impl Up {
+    /// The rotation taking the file's coordinates to psh's (`+y` to `+z` for `y`).
+    fn rotation(self) -> Rotation3<f64> {
+        match self {
+            Up::Z => Rotation3::identity(),
+            Up::Y => Rotation3::from_axis_angle(&Vector3::x_axis(), std::f64::consts::FRAC_PI_2),
+        }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CameraSpec {
+    position: [f64; 3],
+    target: [f64; 3],
+    fov_deg: f64,
+    width: usize,
+    height: usize,
+}
+
+#[derive(Deserialize)]
+#[serde(default, deny_unknown_fields)]
+struct SettingsSpec {
+    l_low: usize,
+    rays: usize,
+    shadows: bool,
+}
+
+impl Default for SettingsSpec {
+    fn default() -> Self {
+        Self {
+            l_low: 4,
+            rays: 256,
+            shadows: true,
+        }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
+enum MaterialSpec {
+    Plastic {
+        name: String,
+        alpha: f64,
+        ior: f64,
+        albedo: f64,
+    },
+    Conductor {
+        name: String,
+        table: String,
+        alpha: f64,
+    },
+    Npz {
+        name: String,
+        path: String,
+    },
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
+enum MeshSpec {
+    Sphere {
+        center: [f64; 3],
+        radius: f64,
+        material: String,
+    },
+    Plane {
+        center: [f64; 3],
+        half_size: f64,
+        material: String,
+    },
+    Obj {
+        path: String,
+        material: String,
+        #[serde(default)]
+        up: Up,
+    },
+}
+
+/// The shared data directory: `$PSH_DATA_DIR`, else `../shared/data`.
+pub fn data_dir() -> PathBuf {
+    std::env::var_os("PSH_DATA_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from("../shared/data"))
+}
+
+/// Reads a scene file; the environment is band-limited to `l_high` (at least `l_low`).
+pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, TransferSettings)> {
+    let path = path.as_ref();
+    let malformed = |reason: String| Error::MalformedFile {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+        path: path.to_path_buf(),
+        source: e,
+    })?;
+    let spec: SceneFile = toml::from_str(&text).map_err(|e| malformed(e.to_string()))?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let resolve = |p: &str| match p.strip_prefix("data:") {
+        Some(rest) => data_dir().join(rest),
+        None => base.join(p),
+    };
+    let settings = TransferSettings {
+        l_low: spec.settings.l_low,
+        rays: spec.settings.rays,
+        shadows: spec.settings.shadows,
+    };
+    let lmax = l_high.max(settings.l_low);
+    let field = |name: &str, e: Error| malformed(format!("{name}: {e}"));
+    let environment = match &spec.environment {
+        EnvironmentSpec::Sky {
+            sun_elevation_deg,
+            sun_azimuth_deg,
+        } => RayleighSky::new(sun_elevation_deg.to_radians(), sun_azimuth_deg.to_radians())
+            .and_then(|s| s.project(lmax))
+            .map_err(|e| field("environment", e))?,
+        EnvironmentSpec::Npz { path: p, up } => {
+            let v = crate::io::npz::read_psh_npz(resolve(p))?
+                .truncated(lmax)
+                .map_err(|e| field("environment.path", e))?;
+            turn(&v, *up)?
+        }
+        EnvironmentSpec::Exr { path: p, up } => {
+            let map = crate::io::exr::read_stokes_map(&resolve(p).to_string_lossy())?;
+            turn(&map.project(Codomain::Full, lmax)?, *up)?
+        }
+    };
+    let mut names = Vec::new();
+    let mut materials = Vec::new();
+    for m in &spec.material {
+        let (name, mat) = match m {
+            MaterialSpec::Plastic {
+                name,
+                alpha,
+                ior,
+                albedo,
+            } => (
+                name,
+                PolarizedPlastic::new(*alpha, *ior, *albedo)
+                    .map(SceneMaterial::Plastic)
+                    .map_err(|e| field(&format!("material '{name}'"), e))?,
+            ),
+            MaterialSpec::Conductor { name, table, alpha } => (
+                name,
+                SceneMaterial::Conductor {
+                    material: Material::from_name(table)
+                        .map_err(|e| field(&format!("material '{name}'.table"), e))?,
+                    alpha: *alpha,
+                },
+            ),
+            MaterialSpec::Npz { name, path: p } => {
+                let mats = crate::io::npz::read_isotropic_npz(resolve(p))?;
+                let dense = mats
+                    .iter()
+                    .map(|m| m.to_dense())
+                    .collect::<Result<Vec<_>>>()?;
+                let rgb: [_; 3] = dense.try_into().map_err(|d: Vec<_>| {
+                    malformed(format!("material '{name}': {} channels, not 3", d.len()))
+                })?;
+                (name, SceneMaterial::Matrices(Box::new(rgb)))
+            }
+        };
+        names.push(name.clone());
+        materials.push(mat);
+    }
+    let material_index = |name: &str| {
+        names.iter().position(|n| n == name).ok_or_else(|| {
+            malformed(format!(
+                "mesh material '{name}' is not defined (materials: {names:?})"
+            ))
+        })
+    };
+    let mut objects = Vec::new();
+    for (k, m) in spec.mesh.iter().enumerate() {
+        let (mesh, material) = match m {
+            MeshSpec::Sphere {
+                center,
+                radius,
+                material,
+            } => (Mesh::sphere(*center, *radius, 32, 64), material),
+            MeshSpec::Plane {
+                center,
+                half_size,
+                material,
+            } => (Mesh::plane(*center, *half_size, 24), material),
+            MeshSpec::Obj {
+                path: p,
+                material,
+                up,
+            } => (
+                Mesh::from_obj(resolve(p)).map(|m| m.rotated(&up.rotation())),
+                material,
+            ),
+        };
+        objects.push(SceneObject {
+            mesh: mesh.map_err(|e| field(&format!("mesh {k}"), e))?,
+            material: material_index(material)?,
+        });
+    }
+    let c = &spec.camera;
+    let camera = Camera::look_at(
+        c.position,
+        c.target,
+        c.fov_deg.to_radians(),
+        c.width,
+        c.height,
+    )
+    .map_err(|e| field("camera", e))?;
+    let scene = Scene::new(objects, materials, environment, camera)
+        .map_err(|e| malformed(e.to_string()))?;
+    Ok((scene, settings))
+}
+
+/// Coefficients given in a frame with another up axis, turned to psh's world.
+fn turn(v: &PshVector, up: Up) -> Result<PshVector> {
+    PshRotation::new(&up.rotation(), v.lmax())?.rotate(v)
+}
