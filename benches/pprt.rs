@@ -8,7 +8,10 @@ use psh::pprt::transfer::{precompute, TransferSettings};
 
 fn pprt(c: &mut Criterion) {
     if !data_dir().join("polarsh/buddha.obj").exists() {
-        eprintln!("shared data missing ({}): pprt benches skipped", data_dir().display());
+        eprintln!(
+            "shared data missing ({}): pprt benches skipped",
+            data_dir().display()
+        );
         return;
     }
     let scene_file = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/buddha.toml");

@@ -187,3 +187,75 @@ material = "floor"
         assert!(e.contains(what), "{k}: {e}");
     }
 }
+
+/// Frame handling: the scene (meshes, environment, camera) rotated as a whole renders the
+/// same image, components in the camera's frames included (without shadows, whose ray
+/// directions are fixed in world coordinates and so sample differently).
+#[test]
+fn rotating_everything_together_leaves_the_image_unchanged() {
+    use psh::polarized::PshRotation;
+    use psh::pprt::render::{background, primary_hits, render_frame};
+    use psh::pprt::scene::{Camera, Scene, SceneObject};
+    let l = 3;
+    let scene = builtin_scene(l, 24, 18).unwrap();
+    let r = psh::sh::wigner::rotation_from_rotvec([0.4, -0.9, 0.3]).unwrap();
+    let cam = scene.camera();
+    let p = r * nalgebra::Vector3::from(cam.position);
+    let turned = Scene::new(
+        scene
+            .objects()
+            .iter()
+            .map(|o| SceneObject {
+                mesh: o.mesh.rotated(&r),
+                material: o.material,
+            })
+            .collect(),
+        scene.materials().to_vec(),
+        PshRotation::new(&r, l)
+            .unwrap()
+            .rotate(scene.environment())
+            .unwrap(),
+        Camera {
+            position: [p.x, p.y, p.z],
+            frame: cam.frame.rotated(&r).unwrap(),
+            ..cam.clone()
+        },
+    )
+    .unwrap();
+    let settings = TransferSettings {
+        l_low: l,
+        rays: 1,
+        shadows: false,
+    };
+    let render = |s: &Scene| {
+        let t = precompute(s, settings).unwrap();
+        let hits = primary_hits(s);
+        let bg = background(s, &hits).unwrap();
+        (render_frame(s, &t, &hits, &bg).unwrap(), hits)
+    };
+    let ((a, ha), (b, hb)) = (render(&scene), render(&turned));
+    let mut worst = 0.0f64;
+    let mut compared = 0;
+    for k in 0..ha.len() {
+        // Pixels whose primary ray hits the same triangle in both (rounding can move a
+        // ray across an edge).
+        let same = match (ha[k], hb[k]) {
+            (Some(x), Some(y)) => (x.object, x.triangle) == (y.object, y.triangle),
+            (None, None) => true,
+            _ => false,
+        };
+        if !same {
+            continue;
+        }
+        compared += 1;
+        for c in 0..3 {
+            for q in 0..4 {
+                let (x, y) = (a.channels[c][k][q], b.channels[c][k][q]);
+                worst = worst.max((x - y).abs() / (1e-3 + a.channels[c][k][0].abs()));
+            }
+        }
+    }
+    println!("{compared} pixels compared, largest difference relative to s0: {worst:e}");
+    assert!(compared > ha.len() * 9 / 10, "{compared}");
+    assert!(worst < 1e-9, "{worst}");
+}

@@ -104,7 +104,7 @@ pub fn render_job(
         },
         "counts": {
             "vertices": vertices, "triangles": scene.triangle_count(),
-            "visibility_rays": if settings.shadows { vertices * settings.rays } else { 0 },
+            "visibility_directions": if settings.shadows { vertices * settings.rays } else { 0 },
             "primary_rays": cam.width * cam.height,
             "transfer_coefficients_per_vertex": 3 * 4 * crate::sh::num_coeffs(settings.l_low),
         },

@@ -1,5 +1,6 @@
 //! Precomputation of polarized radiance transfer (PSH Sec. 7) for the vertices of a scene:
-//! visibility by ray casting, its scalar SH vector, the shadowed environment by the triple
+//! visibility by ray casting (directions below the vertex's tangent plane count as
+//! occluded by the surface itself, without a ray), its scalar SH vector, the shadowed environment by the triple
 //! product PSH (54)-(56), turned into the vertex's shading frame (PSH (35)-(37)) and
 //! reflected by the pBRDF's coefficient matrix PSH (41).
 //!
@@ -102,7 +103,9 @@ pub fn precompute(scene: &Scene, settings: TransferSettings) -> Result<Vec<Vec<V
                             let mut v = vec![0.0; nv];
                             let w = 4.0 * std::f64::consts::PI / dirs.len() as f64;
                             for (d, y) in dirs.iter().zip(basis.chunks_exact(nv)) {
-                                if !scene.occluded(origin, *d, 0.0) {
+                                // Below the tangent plane the surface itself occludes.
+                                let above = d[0] * n[0] + d[1] * n[1] + d[2] * n[2] > 0.0;
+                                if above && !scene.occluded(origin, *d, 0.0) {
                                     v.iter_mut().zip(y).for_each(|(a, b)| *a += w * b);
                                 }
                             }
