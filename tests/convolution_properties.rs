@@ -5,22 +5,18 @@
 use proptest::prelude::*;
 use psh::polarized::{
     kernel_coefficients, project_to_convolution, rotation_average, Codomain, ConvolutionKernel,
-    KernelCoefficients, KernelValue, PshRotation, PshVector,
+    PshRotation, PshVector,
 };
 use psh::sh::wigner::rotation_from_rotvec;
-use psh::verify::{pseudo_random, random_psh, random_psh_matrix};
+use psh::verify::{random_psh, random_psh_matrix};
+
+fn random_kernel(lmax: usize, seed: u64) -> psh::polarized::KernelCoefficients {
+    psh::verify::random_kernel(lmax, seed).unwrap()
+}
 
 fn rotvec() -> impl Strategy<Value = [f64; 3]> {
     prop::array::uniform3(-3.0f64..3.0)
         .prop_filter("non-zero", |v| v.iter().any(|c| c.abs() > 1e-6))
-}
-
-fn random_kernel(lmax: usize, seed: u64) -> KernelCoefficients {
-    let r = pseudo_random((lmax + 1) * 16, seed);
-    let forms: Vec<KernelValue> = (0..=lmax)
-        .map(|l| std::array::from_fn(|q| std::array::from_fn(|p| r[l * 16 + q * 4 + p])))
-        .collect();
-    KernelCoefficients::from_real_form(&forms).unwrap()
 }
 
 fn max_rel(a: &PshVector, b: &PshVector) -> f64 {

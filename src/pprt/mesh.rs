@@ -66,19 +66,15 @@ impl Mesh {
                     "vertex index out of range",
                 ));
             }
-            let [a, b, c] = t.map(|i| Vector3::from(positions[i as usize]));
-            let cross = (b - a).cross(&(c - a));
-            let edge = (b - a)
-                .norm_squared()
-                .max((c - a).norm_squared())
-                .max((c - b).norm_squared());
-            if cross.norm() <= DEGENERATE_AREA * edge || edge == 0.0 {
+            if degenerate(&positions, t) {
                 return Err(bad(
                     "mesh triangle",
                     format!("#{k}: {t:?}"),
                     "degenerate (zero area)",
                 ));
             }
+            let [a, b, c] = t.map(|i| Vector3::from(positions[i as usize]));
+            let cross = (b - a).cross(&(c - a));
             for &i in t {
                 face_sum[i as usize] += cross;
             }

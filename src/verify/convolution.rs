@@ -1,10 +1,10 @@
 //! Checks of the polarized spherical convolution theorem (`psh::polarized::convolution`).
 
-use super::{pseudo_random, random_psh, random_psh_matrix, Check};
+use super::{random_kernel, random_psh, random_psh_matrix, Check};
 use crate::error::Result;
 use crate::polarized::{
     apply_angular, convolve_angular, kernel_coefficients, project_operator, project_to_convolution,
-    Codomain, ConvolutionKernel, KernelCoefficients, KernelValue, PshTransform, SpinBlock22,
+    Codomain, ConvolutionKernel, KernelCoefficients, PshTransform, SpinBlock22,
 };
 use crate::sh::zonal::zonal_coefficients;
 
@@ -59,15 +59,6 @@ pub fn checks() -> Vec<Check> {
             run: projection_residual,
         },
     ]
-}
-
-/// Random real forms `g_l` (all 16 entries), `l <= lmax`.
-pub(crate) fn random_kernel(lmax: usize, seed: u64) -> Result<KernelCoefficients> {
-    let r = pseudo_random((lmax + 1) * 16, seed);
-    let forms: Vec<KernelValue> = (0..=lmax)
-        .map(|l| std::array::from_fn(|q| std::array::from_fn(|p| r[l * 16 + q * 4 + p])))
-        .collect();
-    KernelCoefficients::from_real_form(&forms)
 }
 
 fn max_abs(x: &[f64]) -> f64 {

@@ -129,6 +129,15 @@ pub fn random_psh(
     PshVector::from_data(lmax, codomain, channels, data)
 }
 
+/// Convolution coefficients with random real forms `g_l` (all 16 entries), `l <= lmax`.
+pub fn random_kernel(lmax: usize, seed: u64) -> Result<crate::polarized::KernelCoefficients> {
+    let r = pseudo_random((lmax + 1) * 16, seed);
+    let forms: Vec<crate::polarized::KernelValue> = (0..=lmax)
+        .map(|l| std::array::from_fn(|q| std::array::from_fn(|p| r[l * 16 + q * 4 + p])))
+        .collect();
+    crate::polarized::KernelCoefficients::from_real_form(&forms)
+}
+
 /// A random coefficient matrix (full Stokes) on the index set PSH (31).
 pub fn random_psh_matrix(lmax: usize, seed: u64) -> Result<crate::polarized::PshMatrix> {
     let n = crate::sh::num_coeffs(lmax);
