@@ -4,7 +4,7 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use psh::pprt::render::{background, primary_hits, render_frame};
 use psh::pprt::scene_file::{data_dir, load_scene};
-use psh::pprt::transfer::{precompute, TransferSettings};
+use psh::pprt::transfer::{high_orders, precompute, TransferSettings};
 
 fn pprt(c: &mut Criterion) {
     if !data_dir().join("polarsh/buddha.obj").exists() {
@@ -18,22 +18,29 @@ fn pprt(c: &mut Criterion) {
     let (scene, _) = load_scene(scene_file, 9).unwrap();
     let settings = TransferSettings {
         l_low: 4,
+        l_high: 9,
         rays: 2000,
         shadows: true,
     };
     let mut grp = c.benchmark_group("pprt");
     grp.sample_size(10);
-    // 2,000 visibility rays per vertex, triple products, rotation, pBRDF product.
+    // 2,000 visibility rays per vertex, triple products, rotation, pBRDF product (the
+    // high orders' convolution is per material and not included).
     grp.bench_function("precompute/buddha", |b| {
         b.iter(|| precompute(&scene, settings).unwrap())
     });
     let transfer = precompute(&scene, settings).unwrap();
+    let high: Vec<_> = high_orders(&scene, settings)
+        .unwrap()
+        .into_iter()
+        .map(|h| h.map(|x| x.0))
+        .collect();
     let hits = primary_hits(&scene);
     let bg = background(&scene, &hits).unwrap();
-    // One 512 x 512 frame after precomputation (vertex evaluation, camera frames,
-    // interpolation).
+    // One 512 x 512 frame after precomputation (vertex evaluation with the high orders,
+    // camera frames, interpolation).
     grp.bench_function("runtime_frame/buddha_512", |b| {
-        b.iter(|| render_frame(&scene, &transfer, &hits, &bg).unwrap())
+        b.iter(|| render_frame(&scene, &transfer, &high, &hits, &bg).unwrap())
     });
     grp.finish();
 }

@@ -17,6 +17,7 @@ fn check(shadows: bool) {
     let scene = builtin_scene(l, 8, 6).unwrap();
     let settings = TransferSettings {
         l_low: l,
+        l_high: 0,
         rays: 64,
         shadows,
     };
@@ -116,6 +117,7 @@ height = 30
 
 [settings]
 l_low = 3
+l_high = 5
 rays = 32
 
 [[material]]
@@ -224,6 +226,7 @@ fn rotating_everything_together_leaves_the_image_unchanged() {
     .unwrap();
     let settings = TransferSettings {
         l_low: l,
+        l_high: 0,
         rays: 1,
         shadows: false,
     };
@@ -231,7 +234,8 @@ fn rotating_everything_together_leaves_the_image_unchanged() {
         let t = precompute(s, settings).unwrap();
         let hits = primary_hits(s);
         let bg = background(s, &hits).unwrap();
-        (render_frame(s, &t, &hits, &bg).unwrap(), hits)
+        let none = vec![None; s.materials().len()];
+        (render_frame(s, &t, &none, &hits, &bg).unwrap(), hits)
     };
     let ((a, ha), (b, hb)) = (render(&scene), render(&turned));
     let mut worst = 0.0f64;

@@ -65,9 +65,10 @@ struct RenderArgs {
     /// built-in scene when absent. Its [settings] are overridden by the options given.
     #[arg(long)]
     scene: Option<PathBuf>,
-    /// Band limit of the environment shown in the background (at least l_low).
-    #[arg(long, default_value_t = 9)]
-    l_high: usize,
+    /// Band limit of the high orders by convolution and of the environment in the
+    /// background (default 9, or the scene file's; no high orders when <= l_low).
+    #[arg(long)]
+    l_high: Option<usize>,
     /// Output directory.
     #[arg(long, default_value = "psh-out")]
     out: PathBuf,
@@ -92,7 +93,7 @@ impl Default for RenderArgs {
     fn default() -> Self {
         Self {
             scene: None,
-            l_high: 9,
+            l_high: None,
             out: "psh-out".into(),
             l_low: None,
             rays: None,
@@ -484,30 +485,33 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
         .collect::<psh::Result<Vec<_>>>()?;
     let (scene, file_settings, name) = match &a.scene {
         Some(path) => {
-            let (scene, settings) =
-                psh::pprt::scene_file::load_scene(path, a.l_high.max(a.l_low.unwrap_or(0)))?;
+            let lmax = a.l_high.unwrap_or(0).max(a.l_low.unwrap_or(0));
+            let (scene, settings) = psh::pprt::scene_file::load_scene(path, lmax)?;
             (scene, settings, path.display().to_string())
         }
         None => {
             let settings = psh::pprt::transfer::TransferSettings {
                 l_low: 4,
+                l_high: 9,
                 rays: 256,
                 shadows: true,
             };
-            let lmax = a.l_high.max(a.l_low.unwrap_or(settings.l_low));
+            let lmax = a.l_high.unwrap_or(9).max(a.l_low.unwrap_or(settings.l_low));
             let scene = psh::pprt::job::builtin_scene(lmax, w, h)?;
             (scene, settings, "the built-in scene".to_string())
         }
     };
     let settings = psh::pprt::transfer::TransferSettings {
         l_low: a.l_low.unwrap_or(file_settings.l_low),
+        l_high: a.l_high.unwrap_or(file_settings.l_high),
         rays: a.rays.unwrap_or(file_settings.rays),
         shadows: file_settings.shadows && !a.no_shadows,
     };
     eprintln!(
-        "rendering {name} ({} triangles, l_low {}, {} rays per vertex) into {}",
+        "rendering {name} ({} triangles, l_low {}, l_high {}, {} rays per vertex) into {}",
         scene.triangle_count(),
         settings.l_low,
+        settings.l_high,
         settings.rays,
         a.out.display()
     );

@@ -6,7 +6,7 @@ use super::mesh::Mesh;
 use super::render::{background, primary_hits, render_frame, StokesImage};
 use super::scene::{Camera, Scene, SceneMaterial, SceneObject};
 use super::sky::RayleighSky;
-use super::transfer::{precompute, TransferSettings};
+use super::transfer::{high_orders, precompute, TransferSettings};
 use crate::error::{Error, Result};
 use crate::io::exr::write_stokes_image;
 use crate::io::png::{srgb8, write_png, write_stokes_pngs};
@@ -62,13 +62,16 @@ pub fn render_job(
     })?;
     let t0 = Instant::now();
     let transfer = precompute(scene, settings)?;
+    let high = high_orders(scene, settings)?;
     let t_pre = t0.elapsed().as_secs_f64();
+    let residuals: Vec<Option<f64>> = high.iter().map(|h| h.as_ref().map(|x| x.1)).collect();
+    let high: Vec<_> = high.into_iter().map(|h| h.map(|x| x.0)).collect();
     let t1 = Instant::now();
     let hits = primary_hits(scene);
     let bg = background(scene, &hits)?;
     let t_hits = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
-    let image = render_frame(scene, &transfer, &hits, &bg)?;
+    let image = render_frame(scene, &transfer, &high, &hits, &bg)?;
     let t_frame = t2.elapsed().as_secs_f64();
     let t3 = Instant::now();
     let prefix = out.join("render");
@@ -98,7 +101,7 @@ pub fn render_job(
     let cam = scene.camera();
     let report = json!({
         "settings": {
-            "l_low": settings.l_low, "rays_per_vertex": settings.rays,
+            "l_low": settings.l_low, "l_high": settings.l_high, "rays_per_vertex": settings.rays,
             "shadows": settings.shadows, "environment_lmax": scene.environment().lmax(),
             "image": [cam.width, cam.height], "polarizers_deg": polarizers,
         },
@@ -108,6 +111,7 @@ pub fn render_job(
             "primary_rays": cam.width * cam.height,
             "transfer_coefficients_per_vertex": 3 * 4 * crate::sh::num_coeffs(settings.l_low),
         },
+        "high_order_projection_residual_per_material": residuals,
         "times_s": {
             "precompute": t_pre, "primary_visibility_and_background": t_hits, "frame": t_frame,
             "pictures": t_out,

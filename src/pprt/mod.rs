@@ -6,6 +6,7 @@
 //! |---|---|---|
 //! | [`mesh`] | triangle meshes: procedural, OBJ | |
 //! | [`sky`] | analytic Rayleigh sky with a sun | Chandrasekhar §17 |
+//! | [`reflected`] | high orders by convolution at the reflected direction | PSH Sec. 7 |
 //! | [`scene`] | materials, camera, BVH ray queries | |
 //! | [`scene_file`] | TOML scene files | |
 //! | [`transfer`] | visibility, PSH (54)-(56), (35)-(37), (41) per vertex | PSH Sec. 7 |
@@ -14,6 +15,7 @@
 
 pub mod job;
 pub mod mesh;
+pub mod reflected;
 pub mod render;
 pub mod scene;
 pub mod scene_file;

@@ -8,10 +8,12 @@
 //! ([`crate::geometry::frame::PerspectiveFrameField`]), `z` along the light's travel,
 //! `x` image-right, `y` image-up.
 
+use super::reflected::reflected_radiance;
 use super::scene::{Hit, Scene};
 use super::transfer::VertexTransfer;
 use crate::error::Result;
 use crate::geometry::frame::{Frame, FrameField, PerspectiveFrameField};
+use crate::polarized::PshVector;
 use crate::stokes::StokesVector;
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -86,12 +88,14 @@ pub fn background(scene: &Scene, hits: &[Option<Hit>]) -> Result<Vec<[[f64; 4]; 
 }
 
 /// One frame: vertex Stokes vectors towards the camera in its frames (PSH (30) in the
-/// shading frame, carried to world and read in the camera frame by PSH (14)), then
+/// shading frame, carried to world and read in the camera frame by PSH (14)), plus the
+/// high orders `high[material]` at the reflected direction ([`super::reflected`]), then
 /// interpolated with the hits' barycentric coordinates. Pixels without a hit show
 /// `background` ([`background`]).
 pub fn render_frame(
     scene: &Scene,
     transfer: &[Vec<VertexTransfer>],
+    high: &[Option<PshVector>],
     hits: &[Option<Hit>],
     background: &[[[f64; 4]; 3]],
 ) -> Result<StokesImage> {
@@ -103,11 +107,13 @@ pub fn render_frame(
         .iter()
         .zip(transfer)
         .map(|(o, t)| {
+            let h = high[o.material].as_ref();
             o.mesh
                 .positions()
                 .par_iter()
+                .zip(o.mesh.normals())
                 .zip(t)
-                .map(|(p, vt)| {
+                .map(|((p, n), vt)| {
                     let v = (eye - Vector3::from(*p)).normalize();
                     let wo = [v.x, v.y, v.z];
                     let local = vt.rotation.inverse() * v;
@@ -118,6 +124,12 @@ pub fn render_frame(
                         let world =
                             StokesVector::new(sl.components(), sl.frame().rotated(&vt.rotation)?);
                         *sc = world.components_in(&out_frame)?.to_array();
+                    }
+                    if let Some(h) = h {
+                        for (sc, sh) in s.iter_mut().zip(reflected_radiance(h, *n, wo)?) {
+                            let x = sh.components_in(&out_frame)?.to_array();
+                            sc.iter_mut().zip(x).for_each(|(a, b)| *a += b);
+                        }
                     }
                     Ok(s)
                 })

@@ -18,6 +18,7 @@
 //!
 //! [settings]                    # optional, these are the defaults
 //! l_low = 4
+//! l_high = 9                   # high orders by convolution (none if <= l_low)
 //! rays = 256
 //! shadows = true
 //!
@@ -113,6 +114,7 @@ struct CameraSpec {
 #[serde(default, deny_unknown_fields)]
 struct SettingsSpec {
     l_low: usize,
+    l_high: usize,
     rays: usize,
     shadows: bool,
 }
@@ -121,6 +123,7 @@ impl Default for SettingsSpec {
     fn default() -> Self {
         Self {
             l_low: 4,
+            l_high: 9,
             rays: 256,
             shadows: true,
         }
@@ -175,7 +178,8 @@ pub fn data_dir() -> PathBuf {
         .unwrap_or_else(|| PathBuf::from("../shared/data"))
 }
 
-/// Reads a scene file; the environment is band-limited to `l_high` (at least `l_low`).
+/// Reads a scene file; the environment is band-limited to `l_high` (at least the file's
+/// `l_low` and `l_high`).
 pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, TransferSettings)> {
     let path = path.as_ref();
     let malformed = |reason: String| Error::MalformedFile {
@@ -194,10 +198,11 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
     };
     let settings = TransferSettings {
         l_low: spec.settings.l_low,
+        l_high: spec.settings.l_high,
         rays: spec.settings.rays,
         shadows: spec.settings.shadows,
     };
-    let lmax = l_high.max(settings.l_low);
+    let lmax = l_high.max(settings.l_low).max(settings.l_high);
     let field = |name: &str, e: Error| malformed(format!("{name}: {e}"));
     let environment = match &spec.environment {
         EnvironmentSpec::Sky {

@@ -24,6 +24,9 @@ use rayon::prelude::*;
 pub struct TransferSettings {
     /// Band limit of the transfer (`l <= l_low`).
     pub l_low: usize,
+    /// Band limit of the high orders by convolution (`l_low < l <= l_high`; none when
+    /// `l_high <= l_low`), [`super::reflected`].
+    pub l_high: usize,
     /// Visibility rays per vertex (quasi-uniform Fibonacci directions).
     pub rays: usize,
     /// Shadows (visibility) on or off.
@@ -125,6 +128,39 @@ pub fn precompute(scene: &Scene, settings: TransferSettings) -> Result<Vec<Vec<V
                     })
                 })
                 .collect::<Result<Vec<_>>>()
+        })
+        .collect()
+}
+
+/// The high orders per material ([`super::reflected`]): the environment convolved with
+/// the kernel of the material's reflected pBRDF over the bands `l_low < l <= l_high`
+/// (RGB), and the projection's largest relative residual over the channels; `None` for
+/// every material when `l_high <= l_low`. Error: an environment below `l_high`.
+pub fn high_orders(
+    scene: &Scene,
+    settings: TransferSettings,
+) -> Result<Vec<Option<(PshVector, f64)>>> {
+    let (l_low, l_high) = (settings.l_low, settings.l_high);
+    if l_high <= l_low {
+        return Ok(vec![None; scene.materials().len()]);
+    }
+    let env = scene
+        .environment()
+        .truncated(l_high)?
+        .with_codomain(Codomain::Full);
+    scene
+        .materials()
+        .iter()
+        .map(|m| {
+            let mats = m.matrices(l_high)?;
+            let mut parts = Vec::new();
+            let mut worst = 0.0f64;
+            for (c, p) in mats.iter().enumerate() {
+                let (k, residual) = super::reflected::high_order_kernel(p, l_low)?;
+                worst = worst.max(residual);
+                parts.push(k.convolve(&env.channel(c)?)?);
+            }
+            Ok(Some((PshVector::from_channels(&parts)?, worst)))
         })
         .collect()
 }
