@@ -82,3 +82,8 @@ fn verify_convolution() {
 fn verify_filter() {
     run_group("filter.");
 }
+
+#[test]
+fn verify_pprt() {
+    run_group("pprt.");
+}

@@ -12,6 +12,7 @@ mod matrix;
 mod optics;
 mod oracle;
 mod polarized;
+mod pprt;
 mod sh;
 mod stokes;
 mod swsh;
@@ -64,6 +65,7 @@ pub fn checks() -> Vec<Check> {
     all.extend(filter::checks());
     all.extend(triple::checks());
     all.extend(convolution::checks());
+    all.extend(pprt::checks());
     all
 }
 
