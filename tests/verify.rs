@@ -82,3 +82,13 @@ fn verify_convolution() {
 fn verify_filter() {
     run_group("filter.");
 }
+
+#[test]
+fn verify_solid() {
+    run_group("solid.");
+}
+
+#[test]
+fn verify_lights() {
+    run_group("lights.");
+}

@@ -8,11 +8,13 @@
 
 mod convolution;
 mod filter;
+mod lights;
 mod matrix;
 mod optics;
 mod oracle;
 mod polarized;
 mod sh;
+mod solid;
 mod stokes;
 mod swsh;
 mod triple;
@@ -64,6 +66,8 @@ pub fn checks() -> Vec<Check> {
     all.extend(filter::checks());
     all.extend(triple::checks());
     all.extend(convolution::checks());
+    all.extend(solid::checks());
+    all.extend(lights::checks());
     all
 }
 
