@@ -1,5 +1,6 @@
 //! The `psh` command line: `verify`, `eval`, the environment-map pipeline
-//! `project`, `rotate`, `reconstruct`, and `filter-report` (PF).
+//! `project`, `rotate`, `reconstruct`, `filter-report` (PF), `convolve` and
+//! `lights-demo` (SHH).
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use num_complex::Complex64;
@@ -53,6 +54,17 @@ enum Command {
     /// Convolve a PSH coefficient vector (.npz) with a polarized kernel k(theta) by the
     /// convolution theorem (PSH (68)-(69)), writing a POLAR4 .npz.
     Convolve(ConvolveArgs),
+    /// Many spherical lights: uniform grids vs a Hessian-adaptive grid (SHH Sec. 5, 6.2),
+    /// errors against the per-point exact SH coefficients; writes table.md and
+    /// false-colour error images into a directory and prints the table (Markdown).
+    LightsDemo(LightsDemoArgs),
+}
+
+#[derive(Args)]
+struct LightsDemoArgs {
+    /// Output directory (created if missing).
+    #[arg(long)]
+    out: PathBuf,
 }
 
 #[derive(Args)]
@@ -232,10 +244,24 @@ fn main() -> ExitCode {
         Command::Reconstruct(a) => reconstruct(&a),
         Command::FilterReport(a) => return filter_report(&a),
         Command::Convolve(a) => convolve(&a),
+        Command::LightsDemo(a) => return lights_demo(&a),
     };
     match result {
         Ok(v) => {
             println!("{v}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn lights_demo(a: &LightsDemoArgs) -> ExitCode {
+    match psh::io::lights_demo::write_lights_demo(&a.out) {
+        Ok(report) => {
+            print!("{}", report.markdown_table());
             ExitCode::SUCCESS
         }
         Err(e) => {

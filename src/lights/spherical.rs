@@ -282,3 +282,44 @@ pub fn legendre_and_derivative(t: f64, p: &mut [f64], dp: &mut [f64]) {
         dp[l] = dl;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bad_input_is_an_error() {
+        assert!(SphericalLight::new([0.0; 3], 0.0, 1.0).is_err());
+        assert!(SphericalLight::new([0.0; 3], -1.0, 1.0).is_err());
+        assert!(SphericalLight::new([f64::NAN, 0.0, 0.0], 1.0, 1.0).is_err());
+        assert!(SphericalLight::new([0.0; 3], f64::INFINITY, 1.0).is_err());
+        assert!(SphericalLight::new([0.0; 3], 1.0, f64::NAN).is_err());
+        let light = SphericalLight::new([0.0, 0.0, 2.0], 1.0, 1.0).unwrap();
+        let lights = SphericalLights::new(vec![light], 4).unwrap();
+        // Inside, on the surface, NaN: errors; just outside: finite.
+        assert!(lights.field([0.0, 0.0, 2.5], Order::Hessians).is_err());
+        assert!(lights.field([0.0, 0.0, 1.0], Order::Hessians).is_err());
+        assert!(lights.field([f64::NAN, 0.0, 0.0], Order::Values).is_err());
+        let f = lights
+            .field([0.0, 0.0, 1.0 - 1e-9], Order::Hessians)
+            .unwrap();
+        assert!(f.coefficients.iter().all(|x| x.is_finite()));
+    }
+
+    /// A light seen from far away: `L_00 = E sqrt(pi) (1 - cos a)` (the cap's solid angle
+    /// times `Y_00`), accurate even when `1 - cos a` is far below the f64 epsilon.
+    #[test]
+    fn tiny_and_distant_lights_keep_relative_accuracy() {
+        for (dist, r) in [(3.0, 1.0), (1e3, 1e-3), (1.0, 1e-9)] {
+            let light = SphericalLight::new([dist, 0.0, 0.0], r, 2.0).unwrap();
+            let f = SphericalLights::new(vec![light], 2)
+                .unwrap()
+                .field([0.0; 3], Order::Values)
+                .unwrap();
+            let s: f64 = r / dist;
+            // 1 - cos a = s^2 / (1 + sqrt(1 - s^2)).
+            let want = 2.0 * PI.sqrt() * s * s / (1.0 + (1.0 - s * s).sqrt());
+            assert!((f.coefficients[0] / want - 1.0).abs() < 1e-14, "{dist} {r}");
+        }
+    }
+}

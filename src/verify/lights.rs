@@ -42,7 +42,34 @@ pub fn checks() -> Vec<Check> {
             proof: Some("proofs/spherical-lights.md"),
             run: half_angle_fd,
         },
+        Check {
+            id: "lights.adaptive_error_falls",
+            source: "SHH Sec. 5, Fig. 10",
+            description: "adaptive grids (E_abs thresholds 1, 0.3, 0.1; finest level 6) on the demo scene (32x32 floor points, 12 near and 20 far lights, l <= 4): largest ratio of successive mean interpolation errors |L - L_exact| at the shading points (must be < 1: the error falls with the threshold)",
+            tolerance: 0.5,
+            proof: None,
+            run: adaptive_error_falls,
+        },
     ]
+}
+
+fn adaptive_error_falls() -> Result<f64> {
+    use crate::lights::grid::{Lattice, LightGrid, Metric, Refinement};
+    use crate::lights::scene::{demo_scene, exact_coefficients, grid_errors};
+    let scene = demo_scene(32, 12, 20, 5)?;
+    let lights = SphericalLights::new(scene.lights.clone(), 4)?;
+    let exact = exact_coefficients(&lights, &scene.points)?;
+    let mut errors = Vec::new();
+    for threshold in [1.0, 0.3, 0.1] {
+        let lattice = Lattice::new(scene.bounds.0, scene.bounds.1, 6)?;
+        let refinement = Refinement::Adaptive {
+            metric: Metric::Absolute,
+            threshold,
+        };
+        let grid = LightGrid::build(&lights, lattice, &scene.points, refinement)?;
+        errors.push(grid_errors(&grid, &scene.points, &exact)?.1);
+    }
+    Ok(errors.windows(2).map(|w| w[1] / w[0]).fold(0.0, f64::max))
 }
 
 /// Lights near and far from the origin and one tiny one (a cap of 1e-4 rad).
