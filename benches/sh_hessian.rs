@@ -1,23 +1,14 @@
 //! Criterion benches of the SH gradients and Hessians via solid harmonics (SHH Sec. 4).
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion};
-use psh::sh::harmonics::direction;
 use psh::sh::solid::SolidHarmonics;
-use psh::verify::pseudo_random;
+use psh::verify::random_directions;
 
 /// Values, gradients and Hessians of all real SH `l <= L` at 10,000 directions (the
 /// setting of SHH Fig. 4, single thread), outputs reused across iterations.
 fn sh_hessian(c: &mut Criterion) {
     let mut g = c.benchmark_group("sh_hessian");
-    let r = pseudo_random(20_000, 7);
-    let dirs: Vec<[f64; 3]> = (0..10_000)
-        .map(|k| {
-            direction(
-                (r[2 * k] + 1.0) * 0.5 * std::f64::consts::PI,
-                r[2 * k + 1] * 3.2,
-            )
-        })
-        .collect();
+    let dirs = random_directions(10_000, 7);
     for lmax in [4usize, 20] {
         let sh = SolidHarmonics::new(lmax).unwrap();
         let n = dirs.len() * sh.len();

@@ -15,7 +15,12 @@
 //! deterministic.
 
 #[cfg(feature = "exact")]
+#[path = "common/fixture_json.rs"]
+mod fixture_json;
+
+#[cfg(feature = "exact")]
 mod generate {
+    use super::fixture_json::{arg_json, js};
     use std::fmt::Write as _;
 
     use psh::exact::solid::sh_jets;
@@ -26,18 +31,6 @@ mod generate {
     const GENERATOR: &str = "cargo run --release --features exact --example fixtures_solid";
     const DIGITS: usize = 20;
     pub const BANDS: [usize; 7] = [4, 8, 12, 16, 20, 30, 50];
-
-    fn js(s: &str) -> String {
-        serde_json::to_string(s).expect("a string serializes")
-    }
-
-    fn arg_json(x: f64) -> String {
-        format!(
-            "{{\"decimal\": {}, \"bits\": {}}}",
-            js(&format!("{x:?}")),
-            js(&format!("{:#018x}", x.to_bits()))
-        )
-    }
 
     /// Poles, 1e-8 from the north pole, the equator and four generic directions.
     fn directions() -> Vec<[f64; 3]> {
@@ -56,17 +49,13 @@ mod generate {
     pub fn fixture() -> String {
         let lmax = *BANDS.iter().max().expect("bands");
         let mut s = String::from("{\n");
-        let _ = writeln!(
-            s,
-            "  \"description\": {},",
-            js("Cartesian Hessians [xx, xy, xz, yy, yz, zz] of the real SH Y_lm(x/|x|) (PSH (12), Condon-Shortley sign) at the stored points, bands l of SHH Table 1 and beyond, every m = -l..=l (psh::exact::solid)")
-        );
-        let _ = writeln!(s, "  \"generator\": {},", js(GENERATOR));
-        let _ = writeln!(
-            s,
-            "  \"accuracy\": {},",
-            js("explicit polynomial with exact integer coefficients and second-order automatic differentiation in MPFR at 256 bits, agreeing with 384 bits to 1e-30; rounded to 20 significant digits")
-        );
+        for (key, text) in [
+            ("description", "Cartesian Hessians [xx, xy, xz, yy, yz, zz] of the real SH Y_lm(x/|x|) (PSH (12), Condon-Shortley sign) at the stored points, bands l of SHH Table 1 and beyond, every m = -l..=l (psh::exact::solid)"),
+            ("generator", GENERATOR),
+            ("accuracy", "explicit polynomial with exact integer coefficients and second-order automatic differentiation in MPFR at 256 bits, agreeing with 384 bits to 1e-30; rounded to 20 significant digits"),
+        ] {
+            let _ = writeln!(s, "  \"{key}\": {},", js(text));
+        }
         s.push_str("  \"cases\": [\n");
         let dirs = directions();
         for (di, w) in dirs.iter().enumerate() {

@@ -125,42 +125,34 @@ pub fn write_lights_demo(out: &Path) -> Result<DemoReport> {
     let exact = exact_coefficients(&lights, &scene.points)?;
     let reference_ms = t0.elapsed().as_secs_f64() * 1e3;
     let peak = exact.iter().flatten().fold(0.0f64, |a, b| a.max(b.abs()));
+    let build = |name: String, level: u32, refinement: Refinement| -> Result<(DemoRow, Vec<f64>)> {
+        let lattice = Lattice::new(scene.bounds.0, scene.bounds.1, level)?;
+        let t0 = Instant::now();
+        let grid = LightGrid::build(&lights, lattice, &scene.points, refinement)?;
+        let ms = t0.elapsed().as_secs_f64() * 1e3;
+        row(name, level, &grid, ms, &scene, &exact, peak)
+    };
     let mut rows = Vec::new();
     let mut images = Vec::new();
     for level in 3..=DEMO_MAX_LEVEL - 1 {
-        let lattice = Lattice::new(scene.bounds.0, scene.bounds.1, level)?;
-        let t0 = Instant::now();
-        let grid = LightGrid::build(&lights, lattice, &scene.points, Refinement::Uniform)?;
-        let ms = t0.elapsed().as_secs_f64() * 1e3;
-        let (r, e) = row(
+        let (r, e) = build(
             format!("uniform {0}^3", 1u32 << level),
             level,
-            &grid,
-            ms,
-            &scene,
-            &exact,
-            peak,
+            Refinement::Uniform,
         )?;
         rows.push(r);
         images.push((format!("error_uniform_N{level}.png"), e));
     }
-    let lattice = Lattice::new(scene.bounds.0, scene.bounds.1, DEMO_MAX_LEVEL)?;
     let refinement = Refinement::Adaptive {
         metric: Metric::Absolute,
         threshold: DEMO_THRESHOLD,
     };
-    let t0 = Instant::now();
-    let grid = LightGrid::build(&lights, lattice, &scene.points, refinement)?;
-    let ms = t0.elapsed().as_secs_f64() * 1e3;
-    let (r, e) = row(
+    let (r, e) = build(
         format!("adaptive (E_abs <= {DEMO_THRESHOLD})"),
         DEMO_MAX_LEVEL,
-        &grid,
-        ms,
-        &scene,
-        &exact,
-        peak,
+        refinement,
     )?;
+    let ms = r.time_ms;
     let equal_time = rows
         .iter()
         .enumerate()

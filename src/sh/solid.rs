@@ -26,6 +26,7 @@
 //! `K_lm`), so no factorial grows: values stay finite for `l <= SOLID_MAX_DEGREE`.
 
 use super::harmonics::check_direction;
+use super::legendre::diagonal_factor;
 use super::num_coeffs;
 use crate::error::{check_len, Error, Result};
 use std::f64::consts::{PI, SQRT_2};
@@ -171,7 +172,7 @@ impl SolidHarmonics {
                 if m == 0 {
                     0.5 / PI.sqrt()
                 } else {
-                    -((2 * m + 1) as f64 / (2 * m) as f64).sqrt()
+                    diagonal_factor(m)
                 }
             })
             .collect();
@@ -335,7 +336,7 @@ impl SolidHarmonics {
                 let (q11, q10) = (&q[row1 + m + 1], &q[row1 + m]);
                 let (q22, q21, q20) = (&q[row2 + m + 2], &q[row2 + m + 1], &q[row2 + m]);
                 // Gradient and Hessian of K_lm Q_l^m (proofs/sh-hessian.md).
-                let mut jq = QJet::default();
+                let mut jq = Block::default();
                 for j in 0..LANES {
                     let av = c.alpha * q11[j];
                     let bv = c.beta * q22[j];
@@ -373,14 +374,6 @@ impl SolidHarmonics {
     }
 }
 
-/// Jets of `K_lm Q_l^m` per lane: value, gradient, packed Hessian.
-#[derive(Default)]
-struct QJet {
-    v: V,
-    g: [V; 3],
-    h: [V; 6],
-}
-
 /// The unit directions of a lane group.
 struct Dir {
     x: V,
@@ -388,7 +381,8 @@ struct Dir {
     z: V,
 }
 
-/// One function at every lane: value, gradient, packed Hessian.
+/// One function at every lane (`K_lm Q_l^m`, or `Y_lm`): value, gradient, packed
+/// Hessian.
 #[derive(Default)]
 struct Block {
     v: V,
@@ -415,7 +409,7 @@ type Out<'a> = (&'a mut [f64], &'a mut [[f64; 3]], &'a mut [[f64; 6]]);
 /// One function `Y_lm` at every lane from the jets of `K_lm Q_l^m` and of its
 /// trigonometric factor `t` (`[t, t_x, t_y, t_xx, t_xy]`, `t_yy = -t_xx`).
 #[inline(always)]
-fn emit(jq: &QJet, t: &[V; 5], d: &Dir, lf: f64, out: &mut Block) {
+fn emit(jq: &Block, t: &[V; 5], d: &Dir, lf: f64, out: &mut Block) {
     for j in 0..LANES {
         let (tv, tx, ty, txx, txy) = (t[0][j], t[1][j], t[2][j], t[3][j], t[4][j]);
         let (x, y, z) = (d.x[j], d.y[j], d.z[j]);

@@ -114,6 +114,20 @@ pub fn pseudo_random(n: usize, seed: u64) -> Vec<f64> {
         .collect()
 }
 
+/// `n` deterministic pseudo-random unit directions (polar angle uniform in `[0, pi]`,
+/// azimuth in `[-3.2, 3.2)`), from [`pseudo_random`] with `seed`.
+pub fn random_directions(n: usize, seed: u64) -> Vec<[f64; 3]> {
+    let r = pseudo_random(2 * n, seed);
+    (0..n)
+        .map(|k| {
+            crate::sh::harmonics::direction(
+                (r[2 * k] + 1.0) * 0.5 * std::f64::consts::PI,
+                r[2 * k + 1] * 3.2,
+            )
+        })
+        .collect()
+}
+
 /// Random coefficients on the index set PSH (31).
 pub fn random_psh(
     lmax: usize,
