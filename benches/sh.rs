@@ -1,11 +1,11 @@
 //! Criterion benches of the scalar SH core (ids as in the issue tracker).
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion};
-use psh::sh::harmonics::{direction, ShEvaluator};
+use psh::sh::harmonics::ShEvaluator;
 use psh::sh::num_coeffs;
 use psh::sh::transform::ShTransform;
 use psh::sh::wigner::{for_each_block, rotation_from_rotvec};
-use psh::verify::pseudo_random;
+use psh::verify::{pseudo_random, random_directions};
 
 /// All complex Wigner blocks l <= L of one generic rotation, each block visited once.
 fn wigner_d(c: &mut Criterion) {
@@ -27,15 +27,7 @@ fn wigner_d(c: &mut Criterion) {
 /// Real SH of all l <= L at 10,000 directions (batch, row per direction).
 fn sh_real(c: &mut Criterion) {
     let mut g = c.benchmark_group("sh_real");
-    let r = pseudo_random(20_000, 1);
-    let dirs: Vec<[f64; 3]> = (0..10_000)
-        .map(|k| {
-            direction(
-                (r[2 * k] + 1.0) * 0.5 * std::f64::consts::PI,
-                r[2 * k + 1] * 3.2,
-            )
-        })
-        .collect();
+    let dirs = random_directions(10_000, 1);
     for lmax in [4usize, 20] {
         let ev = ShEvaluator::new(lmax).unwrap();
         let mut out = vec![0.0; dirs.len() * ev.len()];

@@ -18,7 +18,12 @@
 // Without the `exact` feature there is nothing to generate (the `[[example]]` stanza
 // declares `required-features = ["exact"]`; this gate only keeps the file compiling).
 #[cfg(feature = "exact")]
+#[path = "common/fixture_json.rs"]
+mod fixture_json;
+
+#[cfg(feature = "exact")]
 mod generate {
+    use super::fixture_json::{arg_json, js};
     use std::fmt::Write as _;
     use std::time::Instant;
 
@@ -47,20 +52,6 @@ mod generate {
 
     /// Rotation angles of the Wigner fixture (f64 values).
     const BETAS: [f64; 3] = [1.1, 0.3, std::f64::consts::FRAC_PI_2];
-
-    /// A JSON string literal.
-    fn js(s: &str) -> String {
-        serde_json::to_string(s).expect("a string serializes")
-    }
-
-    /// An f64 argument: shortest round-trip decimal and exact bit pattern.
-    fn arg_json(x: f64) -> String {
-        format!(
-            "{{\"decimal\": {}, \"bits\": {}}}",
-            js(&format!("{x:?}")),
-            js(&format!("{:#018x}", x.to_bits()))
-        )
-    }
 
     /// SplitMix64 (Steele, Lea, Flood 2014): a tiny deterministic generator for the
     /// sample of (m, m') pairs. Its only job is to be reproducible.

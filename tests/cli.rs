@@ -450,3 +450,38 @@ fn convolve_with_builtin_and_table_kernels() {
     );
     assert_eq!(e.trim().lines().count(), 1, "{e}");
 }
+
+#[test]
+fn lights_demo_writes_table_and_images() {
+    let dir = std::env::temp_dir().join(format!("psh_lights_demo_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = psh(&["lights-demo", "--out", dir.to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let table = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(
+        std::fs::read_to_string(dir.join("table.md")).unwrap(),
+        table
+    );
+    // Four uniform grids and the adaptive one, each with a finite MSE.
+    let rows: Vec<&str> = table
+        .lines()
+        .filter(|l| l.starts_with("| uniform") || l.starts_with("| adaptive"))
+        .collect();
+    assert_eq!(rows.len(), 5);
+    for r in rows {
+        let mse: f64 = r.split('|').nth(5).unwrap().trim().parse().unwrap();
+        assert!(mse.is_finite() && mse > 0.0, "{r}");
+    }
+    for f in [
+        "error_adaptive.png",
+        "error_uniform_N3.png",
+        "error_uniform_N6.png",
+    ] {
+        assert!(dir.join(f).is_file(), "{f}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

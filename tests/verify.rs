@@ -87,3 +87,13 @@ fn verify_filter() {
 fn verify_pprt() {
     run_group("pprt.");
 }
+
+#[test]
+fn verify_solid() {
+    run_group("solid.");
+}
+
+#[test]
+fn verify_lights() {
+    run_group("lights.");
+}

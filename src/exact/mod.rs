@@ -14,6 +14,7 @@
 //! instance `std::f64::consts::PI`, which is not pi).
 
 pub mod legendre;
+pub mod solid;
 pub mod wigner3j;
 pub mod wigner_d;
 

@@ -13,6 +13,7 @@
 pub mod exr;
 pub mod filter_report;
 pub mod kernel_csv;
+pub mod lights_demo;
 pub mod npz;
 pub mod plot;
 pub mod png;

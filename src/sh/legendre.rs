@@ -246,6 +246,12 @@ fn columns_accurate(lmax: usize, mmax: usize, polar: Polar, f: impl FnMut(usize,
     );
 }
 
+/// `Pbar_mm / Pbar_{m-1,m-1} = -sqrt((2m+1)/(2m)) sin theta` without the `sin theta`:
+/// the diagonal factor of the normalized recursion, `m >= 1`.
+pub(crate) fn diagonal_factor(m: usize) -> f64 {
+    -((2 * m + 1) as f64 / (2 * m) as f64).sqrt()
+}
+
 /// Recursion coefficients of the normalized Legendre functions up to degree `lmax`.
 ///
 /// Building the table costs `O(lmax^2)` square roots and `16 (lmax+1)(lmax+2)/2` bytes;
@@ -281,13 +287,7 @@ impl Legendre {
             }
         }
         let diag = (0..=lmax)
-            .map(|m| {
-                if m == 0 {
-                    0.0
-                } else {
-                    -((2 * m + 1) as f64 / (2 * m) as f64).sqrt()
-                }
-            })
+            .map(|m| if m == 0 { 0.0 } else { diagonal_factor(m) })
             .collect();
         Ok(Self {
             lmax,

@@ -1,5 +1,6 @@
 //! Scalar spherical harmonics: Legendre functions, complex and real SH, Wigner D
-//! rotations, exact quadrature and transforms, Gaunt coefficients, zonal harmonics.
+//! rotations, exact quadrature and transforms, Gaunt coefficients, zonal harmonics,
+//! solid harmonics with Cartesian SH gradients and Hessians (SHH).
 //!
 //! Conventions (see `docs/conventions.md`): `Y_lm = A_lm P_l^m(cos theta) e^{i m phi}`
 //! with the Condon-Shortley phase in `P_l^m` (PSH (1)); real SH by PSH (12); coefficients
@@ -10,6 +11,7 @@ pub mod grid;
 pub mod harmonics;
 pub mod legendre;
 pub mod pixel;
+pub mod solid;
 pub mod transform;
 pub mod wigner;
 pub mod zonal;

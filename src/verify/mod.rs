@@ -8,12 +8,14 @@
 
 mod convolution;
 mod filter;
+mod lights;
 mod matrix;
 mod optics;
 mod oracle;
 mod polarized;
 mod pprt;
 mod sh;
+mod solid;
 mod stokes;
 mod swsh;
 mod triple;
@@ -66,6 +68,8 @@ pub fn checks() -> Vec<Check> {
     all.extend(triple::checks());
     all.extend(convolution::checks());
     all.extend(pprt::checks());
+    all.extend(solid::checks());
+    all.extend(lights::checks());
     all
 }
 
@@ -108,6 +112,20 @@ pub fn pseudo_random(n: usize, seed: u64) -> Vec<f64> {
                 .wrapping_mul(6364136223846793005)
                 .wrapping_add(1442695040888963407);
             ((x >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+        })
+        .collect()
+}
+
+/// `n` deterministic pseudo-random unit directions (polar angle uniform in `[0, pi]`,
+/// azimuth in `[-3.2, 3.2)`), from [`pseudo_random`] with `seed`.
+pub fn random_directions(n: usize, seed: u64) -> Vec<[f64; 3]> {
+    let r = pseudo_random(2 * n, seed);
+    (0..n)
+        .map(|k| {
+            crate::sh::harmonics::direction(
+                (r[2 * k] + 1.0) * 0.5 * std::f64::consts::PI,
+                r[2 * k + 1] * 3.2,
+            )
         })
         .collect()
 }
