@@ -182,6 +182,12 @@ material = "floor"
             "absent.npz",
         ),
     ];
+    let mut bad = settings;
+    bad.l_high = 2;
+    let e = psh::pprt::transfer::precompute(&scene, bad)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("l_high 2"), "{e}");
     for (k, (text, what)) in cases.iter().enumerate() {
         let p = dir.join(format!("bad{k}.toml"));
         std::fs::write(&p, text).unwrap();

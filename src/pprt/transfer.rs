@@ -25,7 +25,7 @@ pub struct TransferSettings {
     /// Band limit of the transfer (`l <= l_low`).
     pub l_low: usize,
     /// Band limit of the high orders by convolution (`l_low < l <= l_high`; none when
-    /// `l_high <= l_low`), [`super::reflected`].
+    /// `l_high` is `l_low` or 0), [`super::reflected`].
     pub l_high: usize,
     /// Visibility rays per vertex (quasi-uniform Fibonacci directions).
     pub rays: usize,
@@ -58,14 +58,23 @@ pub fn fibonacci_directions(n: usize) -> Vec<[f64; 3]> {
 }
 
 /// Transfer of every vertex of every object, `[object][vertex]`. Errors: `l_low` below 2
-/// or above 20, no rays with shadows on.
+/// or above 20, `l_high` below `l_low` (other than 0, no high orders), no rays with
+/// shadows on.
 pub fn precompute(scene: &Scene, settings: TransferSettings) -> Result<Vec<Vec<VertexTransfer>>> {
     let l = settings.l_low;
-    if !(2..=20).contains(&l) || (settings.shadows && settings.rays == 0) {
+    if !(2..=20).contains(&l)
+        || (settings.shadows && settings.rays == 0)
+        || (settings.l_high != 0 && settings.l_high < l)
+    {
         return Err(Error::InvalidArgument {
             name: "transfer settings",
-            value: format!("l_low {l}, {} rays", settings.rays),
-            reason: "2 <= l_low <= 20, and rays > 0 with shadows".into(),
+            value: format!(
+                "l_low {l}, l_high {}, {} rays",
+                settings.l_high, settings.rays
+            ),
+            reason: "2 <= l_low <= 20, l_high >= l_low (or 0: no high orders), and rays > 0 \
+                     with shadows"
+                .into(),
         });
     }
     let lv = 2 * l;
