@@ -117,7 +117,7 @@ impl PshMatrix {
 /// says), and the resulting fields are projected (PSH (32)). Cost `O(G^2)` evaluations of
 /// `P` and `O(G lmax^3)` transforms for `G ~ 2 grid_lmax^2` grid points.
 pub fn project_operator(
-    field: &impl MuellerField,
+    field: &(impl MuellerField + ?Sized),
     lmax: usize,
     grid_lmax: usize,
     block: SpinBlock22,

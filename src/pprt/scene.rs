@@ -5,6 +5,7 @@ use super::mesh::Mesh;
 use crate::error::{Error, Result};
 use crate::optics::{Channel, Conductor, Material, PolarizedPlastic};
 use crate::polarized::{project_operator, PshMatrix, PshVector, SpinBlock22};
+use crate::stokes::MuellerField;
 use bvh::aabb::{Aabb, Bounded};
 use bvh::bounding_hierarchy::BHShape;
 use bvh::bvh::Bvh;
@@ -28,18 +29,8 @@ impl SceneMaterial {
     /// The PSH coefficient matrices (RGB) in the shading frame (normal `+z`), band limit
     /// `lmax`, projected on the exact grid of `2 lmax + 2`.
     pub fn matrices(&self, lmax: usize) -> Result<[PshMatrix; 3]> {
-        let grid = 2 * lmax + 2;
-        let project = |c: Channel| -> Result<PshMatrix> {
-            match self {
-                Self::Plastic(p) => project_operator(p, lmax, grid, SpinBlock22::ComplexPair),
-                Self::Matrices(_) => unreachable!("handled below"),
-                Self::Conductor { material, alpha } => project_operator(
-                    &Conductor::from_material(*alpha, *material, c)?,
-                    lmax,
-                    grid,
-                    SpinBlock22::ComplexPair,
-                ),
-            }
+        let project = |field: &dyn MuellerField| {
+            project_operator(field, lmax, 2 * lmax + 2, SpinBlock22::ComplexPair)
         };
         match self {
             Self::Matrices(m) => Ok([
@@ -47,15 +38,18 @@ impl SceneMaterial {
                 m[1].truncated(lmax)?,
                 m[2].truncated(lmax)?,
             ]),
-            Self::Plastic(_) => {
-                let m = project(Channel::Red)?;
+            Self::Plastic(p) => {
+                let m = project(p)?;
                 Ok([m.clone(), m.clone(), m])
             }
-            Self::Conductor { .. } => Ok([
-                project(Channel::Red)?,
-                project(Channel::Green)?,
-                project(Channel::Blue)?,
-            ]),
+            Self::Conductor { material, alpha } => {
+                let channel = |c| project(&Conductor::from_material(*alpha, *material, c)?);
+                Ok([
+                    channel(Channel::Red)?,
+                    channel(Channel::Green)?,
+                    channel(Channel::Blue)?,
+                ])
+            }
         }
     }
 }
