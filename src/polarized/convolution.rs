@@ -194,10 +194,12 @@ impl KernelCoefficients {
                     if (l as i64) < SPINS[q].abs().max(SPINS[p].abs()) {
                         gl[q][p] = Complex64::default();
                     }
-                    if !gl[q][p].re.is_finite() || !gl[q][p].im.is_finite() {
-                        return Err(Error::NonFinite {
+                    let g = gl[q][p];
+                    if !(g.re.is_finite() && g.im.is_finite()) {
+                        return Err(Error::InvalidArgument {
                             name: "kernel coefficient",
-                            value: f64::NAN,
+                            value: format!("G[{l}][{q}][{p}] = {g}"),
+                            reason: "finite values".into(),
                         });
                     }
                 }

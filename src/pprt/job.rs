@@ -110,6 +110,7 @@ pub fn render_job(
             "visibility_directions": if settings.shadows { vertices * settings.rays } else { 0 },
             "primary_rays": cam.width * cam.height,
             "transfer_coefficients_per_vertex": 3 * 4 * crate::sh::num_coeffs(settings.l_low),
+            "degenerate_triangles_dropped": scene.objects().iter().map(|o| o.mesh.dropped()).sum::<usize>(),
         },
         "high_order_projection_residual_per_material": residuals,
         "times_s": {
@@ -124,11 +125,13 @@ pub fn render_job(
     Ok(report)
 }
 
-/// The luminance-free RGB picture through a polarizer, with the exposure of `s0`.
+/// The RGB picture through a polarizer at `deg` degrees, doubled (Malus halves
+/// unpolarized light) and exposed so that the 99th percentile of the green channel's `s0`
+/// is white: unpolarized light looks as in the `s0` picture.
 fn write_polarizer_png(image: &StokesImage, deg: f64, out: &Path) -> Result<PathBuf> {
-    let through: Vec<Vec<f64>> = (0..3)
+    let through = (0..3)
         .map(|c| image.through_polarizer(c, deg.to_radians()))
-        .collect();
+        .collect::<Result<Vec<_>>>()?;
     let mut s0: Vec<f64> = image.channels[1].iter().map(|s| s[0].abs()).collect();
     s0.sort_by(f64::total_cmp);
     let exposure = 1.0 / s0[(0.99 * (s0.len() - 1) as f64) as usize].max(1e-300);

@@ -31,13 +31,23 @@ pub struct StokesImage {
 impl StokesImage {
     /// The intensity seen through an ideal linear polarizer at `angle` (radians, from
     /// image-right towards image-up), channel `c`: `(s0 + s1 cos 2a + s2 sin 2a) / 2`
-    /// (PF (8) applied to the Stokes vector).
-    pub fn through_polarizer(&self, c: usize, angle: f64) -> Vec<f64> {
+    /// (PF (8) applied to the Stokes vector). Errors: `c` out of range, `angle` not
+    /// finite.
+    pub fn through_polarizer(&self, c: usize, angle: f64) -> Result<Vec<f64>> {
+        let angle = crate::error::finite("polarizer angle", angle)?;
+        let channel = self
+            .channels
+            .get(c)
+            .ok_or_else(|| crate::Error::InvalidArgument {
+                name: "channel",
+                value: c.to_string(),
+                reason: format!("{} channels", self.channels.len()),
+            })?;
         let (c2, s2) = ((2.0 * angle).cos(), (2.0 * angle).sin());
-        self.channels[c]
+        Ok(channel
             .iter()
             .map(|s| 0.5 * (s[0] + s[1] * c2 + s[2] * s2))
-            .collect()
+            .collect())
     }
 }
 
