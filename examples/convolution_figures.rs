@@ -15,14 +15,17 @@
 //! exit) if the two convolutions differ by more than 1e-10 or the residual does not
 //! reach 1e-12 at n = lmax + 1.
 
+#[path = "common/sponza.rs"]
+mod sponza;
 use psh::io::plot::{LinePlot, Series};
 use psh::io::png::write_map_pngs;
 use psh::map::{MapLayout, StokesMap};
 use psh::optics::PolarizedPlastic;
 use psh::polarized::{
     convolve_angular, kernel_coefficients, project_operator, project_to_convolution,
-    rotation_average, Codomain, ConvolutionKernel, PshTransform, PshVector, SpinBlock22,
+    rotation_average, Codomain, ConvolutionKernel, PshTransform, SpinBlock22,
 };
+use sponza::sponza_or_synthetic;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -53,29 +56,10 @@ fn main() -> psh::Result<()> {
     Ok(())
 }
 
-/// Sponza projected to `lmax`, or a synthetic map.
-fn source_map(lmax: usize) -> psh::Result<(PshVector, String)> {
-    let base = std::env::var_os("PSH_DATA_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from("../shared/data"));
-    let pattern = base.join("polarsh/sponza_64_s%d.exr");
-    let pattern = pattern.to_string_lossy().into_owned();
-    if Path::new(&pattern.replace("%d", "0")).exists() {
-        let map = psh::io::exr::read_stokes_map(&pattern)?;
-        Ok((map.project(Codomain::Full, lmax)?, pattern))
-    } else {
-        println!("  shared data missing ({pattern}): using a synthetic band-limited map");
-        Ok((
-            psh::verify::random_psh(lmax, Codomain::Full, 3, 2024)?,
-            "synthetic".into(),
-        ))
-    }
-}
-
 /// Returns the largest relative difference of the two convolutions.
 fn figure16(out: &Path) -> psh::Result<f64> {
     let lmax = FIG16_LMAX;
-    let (map, source) = source_map(lmax)?;
+    let (map, source) = sponza_or_synthetic(lmax)?;
     println!("Fig. 16: k = (pi - theta) I on {source}, l <= {lmax}, RGB");
     let kernel = ConvolutionKernel::linear_zenith();
 

@@ -12,17 +12,20 @@
 //! frequency domain (PSH (35)-(37)) and reconstructed, against the same band-limited map
 //! rotated in the angular domain (PSH (25)); and the naive rotation of (b).
 
+#[path = "common/sponza.rs"]
+mod sponza;
 use psh::geometry::frame::ThetaPhiFrameField;
 use psh::geometry::image_grid::{Equirect, PixelGrid};
 use psh::geometry::rotated::Rotated;
 use psh::io::png::{diverging, write_map_pngs, write_matrix_png, write_png};
 use psh::map::{MapLayout, StokesMap};
 use psh::polarized::figure10::{off_block_fraction, rotation_coefficient_matrix, LinearBasis};
-use psh::polarized::{reconstruct_image, Codomain, PshRotation, PshTransform, PshVector};
+use psh::polarized::{reconstruct_image, PshRotation, PshTransform, PshVector};
 use psh::sh::harmonics::ShEvaluator;
 use psh::sh::transform::ShTransform;
 use psh::sh::wigner::{rotation_from_rotvec, RealWignerD};
 use psh::sh::{lm_of_index, num_coeffs};
+use sponza::sponza_or_synthetic;
 use std::path::{Path, PathBuf};
 
 /// Band limit of Fig. 10's matrices and of Fig. 11's map.
@@ -97,28 +100,9 @@ fn figure10(out: &Path, r: &nalgebra::Rotation3<f64>) -> psh::Result<()> {
     Ok(())
 }
 
-/// The map of Fig. 11 and where it came from.
-fn source_map() -> psh::Result<(PshVector, String)> {
-    let base = std::env::var_os("PSH_DATA_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from("../shared/data"));
-    let pattern = base.join("polarsh/sponza_64_s%d.exr");
-    let pattern = pattern.to_string_lossy().into_owned();
-    if Path::new(&pattern.replace("%d", "0")).exists() {
-        let map = psh::io::exr::read_stokes_map(&pattern)?;
-        Ok((map.project(Codomain::Full, FIG11_LMAX)?, pattern))
-    } else {
-        println!("  shared data missing ({pattern}): using a synthetic band-limited map");
-        Ok((
-            psh::verify::random_psh(FIG11_LMAX, Codomain::Full, 3, 2024)?,
-            "synthetic".into(),
-        ))
-    }
-}
-
 fn figure11(out: &Path, r: &nalgebra::Rotation3<f64>) -> psh::Result<()> {
     let lmax = FIG11_LMAX;
-    let (v, source) = source_map()?;
+    let (v, source) = sponza_or_synthetic(FIG11_LMAX)?;
     println!("Fig. 11: {source}, band-limited to l <= {lmax}, rotated by {ROTVEC:?}");
     let layout = MapLayout::from_image_size(128, 256)?;
     let MapLayout::Equirect(grid) = layout.clone() else {
