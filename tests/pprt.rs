@@ -144,6 +144,13 @@ type = "plane"
 center = [0.0, 0.0, 0.0]
 half_size = 3.0
 material = "floor"
+
+[[mesh]]
+type = "torus"
+center = [1.5, 0.5, 0.2]
+major_radius = 0.5
+minor_radius = 0.2
+material = "gold"
 "#;
     let path = dir.join("scene.toml");
     std::fs::write(&path, good).unwrap();
@@ -173,6 +180,10 @@ material = "floor"
             "Unobtainium",
         ),
         (good.replace("radius = 0.6", "radius = -1.0"), "mesh 0"),
+        (
+            good.replace("minor_radius = 0.2", "minor_radius = 0.7"),
+            "mesh 2",
+        ),
         (good.replace("fov_deg = 45.0", "fov = 45.0"), "fov"),
         (
             good.replace(
@@ -268,4 +279,65 @@ fn rotating_everything_together_leaves_the_image_unchanged() {
     println!("{compared} pixels compared, largest difference relative to s0: {worst:e}");
     assert!(compared > ha.len() * 9 / 10, "{compared}");
     assert!(worst < 1e-9, "{worst}");
+}
+
+/// Camera roll (PSH (14)): turning the camera about its view axis turns its frame on
+/// every ray by the angle `chi` between the two cameras' image-right axes there (the
+/// perspective frame field: `x = normalize(y_c x w)`, `y_c` the camera's image-down axis;
+/// `chi` is measured here from those axes alone and equals the roll only on the optical
+/// axis), and the vertices' components must follow `s1' = cos 2chi s1 + sin 2chi s2`,
+/// `s2' = -sin 2chi s1 + cos 2chi s2` (`s0`, `s3` unchanged). Compared at the vertices,
+/// where each value has one frame; a pixel interpolates vertices whose `chi` differ.
+#[test]
+fn camera_roll_turns_s1_s2_as_psh_14() {
+    use psh::pprt::render::vertex_stokes;
+    use psh::pprt::transfer::high_orders;
+    let mut scene = builtin_scene(6, 16, 16).unwrap();
+    let settings = TransferSettings {
+        l_low: 4,
+        l_high: 6,
+        rays: 64,
+        shadows: true,
+    };
+    let transfer = precompute(&scene, settings).unwrap();
+    let high: Vec<_> = high_orders(&scene, settings)
+        .unwrap()
+        .into_iter()
+        .map(|h| h.map(|x| x.0))
+        .collect();
+    let cam = scene.camera().clone();
+    let before = vertex_stokes(&scene, &transfer, &high).unwrap();
+    let scale = before
+        .iter()
+        .flatten()
+        .map(|v| v[0][0].abs())
+        .fold(0.0, f64::max);
+    for psi in [0.7, -2.2, std::f64::consts::FRAC_PI_2] {
+        let rolled = cam.rolled(psi).unwrap();
+        scene.set_camera(rolled.clone());
+        let after = vertex_stokes(&scene, &transfer, &high).unwrap();
+        let (y0, y1) = (cam.frame.y(), rolled.frame.y());
+        let eye = nalgebra::Vector3::from(cam.position);
+        let (mut worst, mut turned) = (0.0f64, 0.0f64);
+        for (o, (b, a)) in scene.objects().iter().zip(before.iter().zip(&after)) {
+            for (p, (sb, sa)) in o.mesh.positions().iter().zip(b.iter().zip(a)) {
+                // The light travels along w to the camera: the travel frame is [x, w x x, w]
+                // with x = normalize(y_c x (-w)), the field's x at the pixel ray -w.
+                let w = (eye - nalgebra::Vector3::from(*p)).normalize();
+                let (x0, x1) = (y0.cross(&-w).normalize(), y1.cross(&-w).normalize());
+                let chi = x1.dot(&w.cross(&x0)).atan2(x1.dot(&x0));
+                let pi = std::f64::consts::PI;
+                turned = turned.max(((chi - psi + pi).rem_euclid(2.0 * pi) - pi).abs());
+                let (c2, s2) = ((2.0 * chi).cos(), (2.0 * chi).sin());
+                for (x, y) in sb.iter().zip(sa) {
+                    let want = [x[0], c2 * x[1] + s2 * x[2], -s2 * x[1] + c2 * x[2], x[3]];
+                    for q in 0..4 {
+                        worst = worst.max((y[q] - want[q]).abs() / scale);
+                    }
+                }
+            }
+        }
+        println!("roll {psi}: |chi - roll| up to {turned:.3}, largest difference {worst:e}");
+        assert!(worst < 1e-12, "roll {psi}: {worst}");
+    }
 }

@@ -16,6 +16,7 @@
 mod angular;
 mod convolution;
 mod cube;
+mod evaluator;
 pub mod figure10;
 mod image;
 mod isotropic;
@@ -31,6 +32,7 @@ pub use convolution::{
     KernelCoefficients,
 };
 pub use cube::project_cube_map;
+pub use evaluator::PshEvaluator;
 pub use image::project_image;
 pub use isotropic::{isotropic_lmax, isotropic_pairs, isotropy_defect, IsotropicMatrix};
 pub use kernel::{ConvolutionKernel, KernelValue};
@@ -40,12 +42,9 @@ pub use synthesis::reconstruct_image;
 pub use triple::{spin2_gaunt, visibility_transfer, visibility_transfer_quadrature, TripleTable};
 
 use crate::error::{check_len, Error, Result};
-use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
-use crate::sh::harmonics::{direction_angles, sh_real};
 use crate::sh::transform::ShTransform;
 use crate::sh::{lm_index, num_coeffs};
-use crate::stokes::{StokesComponents, StokesVector};
-use crate::swsh::swsh;
+use crate::stokes::StokesVector;
 use crate::swsh::transform::SpinTransform;
 use num_complex::Complex64;
 
@@ -285,8 +284,7 @@ impl PshVector {
     }
 
     /// The Stokes vector of channel `c` at the unit direction `w` by PSH (30), in the
-    /// theta-phi frame there (single-direction SH and SWSH: `O(lmax^3)`, for reference
-    /// values and tests).
+    /// theta-phi frame there (tables built per call; loops use a [`PshEvaluator`]).
     pub fn evaluate(&self, c: usize, w: [f64; 3]) -> Result<StokesVector> {
         if c >= self.channels {
             return Err(Error::InvalidArgument {
@@ -299,30 +297,9 @@ impl PshVector {
     }
 
     /// The Stokes vectors of every channel at `w` ([`Self::evaluate`], the basis evaluated
-    /// once).
+    /// once; a [`PshEvaluator`] keeps its tables across calls).
     pub fn evaluate_all(&self, w: [f64; 3]) -> Result<Vec<StokesVector>> {
-        let (t, p) = direction_angles(w)?;
-        let (yr, y2) = (sh_real(self.lmax, t, p)?, swsh(2, self.lmax, t, p)?);
-        let frame = ThetaPhiFrameField::new().frame(w)?;
-        let comps = self.codomain.components();
-        let n = num_coeffs(self.lmax);
-        self.data
-            .chunks_exact(n * comps.len())
-            .map(|x| {
-                let (mut s, mut z) = ([0.0; 4], Complex64::default());
-                for ((xj, yr), y2) in x.chunks_exact(comps.len()).zip(&yr).zip(&y2) {
-                    for (&v, &q) in xj.iter().zip(comps) {
-                        match q {
-                            1 => z += v * y2,
-                            2 => z += Complex64::new(0.0, v) * y2,
-                            _ => s[q] += v * yr,
-                        }
-                    }
-                }
-                (s[1], s[2]) = (z.re, z.im);
-                Ok(StokesVector::new(StokesComponents::new(s)?, frame))
-            })
-            .collect()
+        PshEvaluator::new(self.lmax)?.evaluate_all(self, w)
     }
 
     /// The same light field indexed by the direction of travel `v = -w` instead of the

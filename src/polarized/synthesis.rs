@@ -12,17 +12,13 @@ use super::PshVector;
 use crate::error::Result;
 use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
 use crate::geometry::image_grid::PixelGrid;
-use crate::sh::harmonics::cis_m;
+use crate::sh::harmonics::CisWalk;
 use crate::sh::legendre::{Legendre, Polar};
 use crate::sh::lm_index;
 use crate::stokes::{StokesComponents, StokesVector};
 use crate::swsh::transform::SpinEvaluator;
 use num_complex::Complex64;
 use std::f64::consts::SQRT_2;
-
-/// Steps of the `e^{i m phi}` recurrence between exact restarts (bounds its rounding
-/// drift to a few tens of ulps).
-const CIS_RESTART: usize = 32;
 
 /// The Stokes components `[s0, s1, s2, s3]` of every channel of `v` at the texels of
 /// `grid` (row-major), in the frames of `frames`; texels of zero solid angle (off a cube
@@ -131,18 +127,12 @@ pub fn reconstruct_image(
     Ok(out)
 }
 
-/// `cis[m] = e^{i m phi}` for `m = 0..cis.len()`, by multiplication with exact restarts
-/// every [`CIS_RESTART`] steps.
+/// `cis[m] = e^{i m phi}` for `m = 0..cis.len()` ([`CisWalk`]).
 fn fill_cis(phi: f64, cis: &mut [Complex64]) {
-    let (c1, s1) = cis_m(1, phi);
-    let step = Complex64::new(c1, s1);
-    for m in 0..cis.len() {
-        cis[m] = if m % CIS_RESTART == 0 {
-            let (c, s) = cis_m(m, phi);
-            Complex64::new(c, s)
-        } else {
-            cis[m - 1] * step
-        };
+    let mut walk = CisWalk::new(phi);
+    for (m, e) in cis.iter_mut().enumerate() {
+        let (c, s) = walk.at(m);
+        *e = Complex64::new(c, s);
     }
 }
 
@@ -195,16 +185,6 @@ mod tests {
                 &img,
             );
             assert!(worst < 1e-13, "{cod:?}: {worst}");
-        }
-    }
-
-    #[test]
-    fn cis_restarts_stay_accurate() {
-        let mut cis = vec![Complex64::default(); 300];
-        fill_cis(2.3, &mut cis);
-        for (m, z) in cis.iter().enumerate() {
-            let (c, s) = cis_m(m, 2.3);
-            assert!((z.re - c).abs() < 1e-14 && (z.im - s).abs() < 1e-14, "{m}");
         }
     }
 }

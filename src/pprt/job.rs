@@ -15,8 +15,8 @@ use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// The built-in scene: a glossy dielectric sphere and a gold sphere on a diffuse ground
-/// plane under the Rayleigh sky (sun at 35 degrees elevation), seen from above the
+/// The built-in scene: a glossy dielectric sphere, a gold sphere and a gold torus on a
+/// diffuse ground plane under the Rayleigh sky (sun at 35 degrees elevation), seen from above the
 /// ground; environment band limit `lmax`.
 pub fn builtin_scene(lmax: usize, width: usize, height: usize) -> Result<Scene> {
     let sky = RayleighSky::new(35f64.to_radians(), 2.4)?;
@@ -31,6 +31,10 @@ pub fn builtin_scene(lmax: usize, width: usize, height: usize) -> Result<Scene> 
         },
         SceneObject {
             mesh: Mesh::sphere([0.9, 0.3, 0.6], 0.6, 32, 64)?,
+            material: 2,
+        },
+        SceneObject {
+            mesh: Mesh::torus([0.1, -1.3, 0.16], 0.42, 0.16, 64, 24)?,
             material: 2,
         },
     ];

@@ -146,6 +146,51 @@ impl Mesh {
         Self::new(positions, Some(normals), triangles)
     }
 
+    /// A torus about the axis `+z` through `center`: tube of radius `minor` around a
+    /// circle of radius `major`, in `rings` x `segments` quads (around the axis, around
+    /// the tube).
+    pub fn torus(
+        center: [f64; 3],
+        major: f64,
+        minor: f64,
+        rings: usize,
+        segments: usize,
+    ) -> Result<Self> {
+        if !(minor.is_finite() && minor > 0.0 && major.is_finite() && major > minor)
+            || rings < 3
+            || segments < 3
+        {
+            return Err(Error::InvalidArgument {
+                name: "torus",
+                value: format!("radii {major} and {minor}, {rings} rings, {segments} segments"),
+                reason: "major > minor > 0, at least 3 rings and 3 segments".into(),
+            });
+        }
+        let mut positions = Vec::with_capacity(rings * segments);
+        let mut normals = Vec::with_capacity(rings * segments);
+        for r in 0..rings {
+            let u = 2.0 * PI * r as f64 / rings as f64;
+            for s in 0..segments {
+                let v = 2.0 * PI * s as f64 / segments as f64;
+                let n = [v.cos() * u.cos(), v.cos() * u.sin(), v.sin()];
+                let radial = [u.cos(), u.sin(), 0.0];
+                positions.push(std::array::from_fn(|k| {
+                    center[k] + major * radial[k] + minor * n[k]
+                }));
+                normals.push(n);
+            }
+        }
+        let id = |r: usize, s: usize| ((r % rings) * segments + s % segments) as u32;
+        let mut triangles = Vec::with_capacity(2 * rings * segments);
+        for r in 0..rings {
+            for s in 0..segments {
+                triangles.push([id(r, s), id(r + 1, s), id(r + 1, s + 1)]);
+                triangles.push([id(r, s), id(r + 1, s + 1), id(r, s + 1)]);
+            }
+        }
+        Self::new(positions, Some(normals), triangles)
+    }
+
     /// A square in the plane `z = center[2]`, normal `+z`, of half-size `half`, split into
     /// `n x n` quads.
     pub fn plane(center: [f64; 3], half: f64, n: usize) -> Result<Self> {
@@ -303,5 +348,39 @@ mod tests {
         assert!(e.to_string().contains("out of range"), "{e}");
         let e = Mesh::from_obj("/nonexistent/x.obj").unwrap_err();
         assert!(e.to_string().contains("x.obj"), "{e}");
+    }
+
+    /// The torus is closed (every edge shared by exactly two triangles, in opposite
+    /// directions), its triangles face along its vertex normals, and each vertex lies at
+    /// the tube radius from the core circle along its normal.
+    #[test]
+    fn torus_is_closed_and_faces_out() {
+        let c = [0.5, -1.0, 0.3];
+        let t = Mesh::torus(c, 1.0, 0.25, 24, 12).unwrap();
+        assert_eq!((t.positions().len(), t.triangles().len()), (288, 576));
+        let mut edges = std::collections::HashMap::new();
+        for tri in t.triangles() {
+            for k in 0..3 {
+                *edges.entry((tri[k], tri[(k + 1) % 3])).or_insert(0) += 1;
+            }
+            let [a, b, d] = tri.map(|i| Vector3::from(t.positions()[i as usize]));
+            let face = (b - a).cross(&(d - a));
+            let n: Vector3<f64> = tri
+                .iter()
+                .map(|&i| Vector3::from(t.normals()[i as usize]))
+                .sum();
+            assert!(face.dot(&n) > 0.0);
+        }
+        for (&(a, b), &count) in &edges {
+            assert_eq!((count, edges.get(&(b, a))), (1, Some(&1)), "edge {a}-{b}");
+        }
+        for (p, n) in t.positions().iter().zip(t.normals()) {
+            let q: [f64; 3] = std::array::from_fn(|k| p[k] - c[k] - 0.25 * n[k]);
+            assert!((q[2].abs() + ((q[0] * q[0] + q[1] * q[1]).sqrt() - 1.0).abs()) < 1e-14);
+        }
+        for bad in [(0.2, 0.25), (1.0, 0.0), (f64::NAN, 0.1)] {
+            let e = Mesh::torus(c, bad.0, bad.1, 24, 12).unwrap_err();
+            assert!(e.to_string().contains("torus"), "{e}");
+        }
     }
 }

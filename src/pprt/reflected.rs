@@ -15,7 +15,9 @@
 //! direction `R_n^-1 w_o = 2 (n . w_o) n - w_o` and turned by `R_n`.
 
 use crate::error::Result;
-use crate::polarized::{project_to_convolution, KernelCoefficients, PshMatrix, PshVector};
+use crate::polarized::{
+    project_to_convolution, KernelCoefficients, PshEvaluator, PshMatrix, PshVector,
+};
 use crate::sh::{lm_of_index, num_coeffs};
 use crate::stokes::StokesVector;
 use nalgebra::{Rotation3, Unit, Vector3};
@@ -51,13 +53,18 @@ pub fn high_order_kernel(p: &PshMatrix, l_low: usize) -> Result<(KernelCoefficie
 
 /// The high-order outgoing Stokes vector at a vertex of unit normal `n` towards `w_o`:
 /// the convolved environment `h` (all channels) at the reflected direction, turned by pi
-/// about `n` (a Stokes vector on the ray `w_o`).
-pub fn reflected_radiance(h: &PshVector, n: [f64; 3], wo: [f64; 3]) -> Result<Vec<StokesVector>> {
+/// about `n` (a Stokes vector on the ray `w_o`), evaluated by `eval`.
+pub fn reflected_radiance(
+    eval: &mut PshEvaluator,
+    h: &PshVector,
+    n: [f64; 3],
+    wo: [f64; 3],
+) -> Result<Vec<StokesVector>> {
     let nv = Vector3::from(n);
     let w = Vector3::from(wo);
     let r = 2.0 * nv.dot(&w) * nv - w;
     let turn = Rotation3::from_axis_angle(&Unit::new_normalize(nv), std::f64::consts::PI);
-    h.evaluate_all([r.x, r.y, r.z])?
+    eval.evaluate_all(h, [r.x, r.y, r.z])?
         .into_iter()
         .map(|s| Ok(StokesVector::new(s.components(), s.frame().rotated(&turn)?)))
         .collect()

@@ -13,7 +13,7 @@ use super::scene::{Hit, Scene};
 use super::transfer::VertexTransfer;
 use crate::error::Result;
 use crate::geometry::frame::{Frame, FrameField, PerspectiveFrameField};
-use crate::polarized::PshVector;
+use crate::polarized::{PshEvaluator, PshVector};
 use crate::stokes::StokesVector;
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -97,11 +97,64 @@ pub fn background(scene: &Scene, hits: &[Option<Hit>]) -> Result<Vec<[[f64; 4]; 
         .collect()
 }
 
-/// One frame: vertex Stokes vectors towards the camera in its frames (PSH (30) in the
-/// shading frame, carried to world and read in the camera frame by PSH (14)), plus the
-/// high orders `high[material]` at the reflected direction ([`super::reflected`]), then
-/// interpolated with the hits' barycentric coordinates. Pixels without a hit show
-/// `background` ([`background`]).
+/// The Stokes vectors `[object][vertex][channel]` leaving every vertex towards the camera,
+/// in the camera's frames at the vertex's direction: PSH (30) in the shading frame,
+/// carried to world and read in the camera frame by PSH (14), plus the high orders
+/// `high[material]` at the reflected direction ([`super::reflected`]).
+pub fn vertex_stokes(
+    scene: &Scene,
+    transfer: &[Vec<VertexTransfer>],
+    high: &[Option<PshVector>],
+) -> Result<Vec<Vec<[[f64; 4]; 3]>>> {
+    let cam = scene.camera();
+    let field = PerspectiveFrameField::new(cam.frame);
+    let eye = Vector3::from(cam.position);
+    scene
+        .objects()
+        .iter()
+        .zip(transfer)
+        .map(|(o, t)| {
+            let h = high[o.material].as_ref();
+            let low = PshEvaluator::new(t.first().map_or(0, |vt| vt.radiance.lmax()))?;
+            let high = PshEvaluator::new(h.map_or(0, PshVector::lmax))?;
+            o.mesh
+                .positions()
+                .par_iter()
+                .zip(o.mesh.normals())
+                .zip(t)
+                .map_init(
+                    || (low.clone(), high.clone()),
+                    |(low, high), ((p, n), vt)| {
+                        let v = (eye - Vector3::from(*p)).normalize();
+                        let wo = [v.x, v.y, v.z];
+                        let local = vt.rotation.inverse() * v;
+                        let out_frame = camera_travel_frame(&field, wo)?;
+                        let mut s = [[0.0; 4]; 3];
+                        let all = low.evaluate_all(&vt.radiance, [local.x, local.y, local.z])?;
+                        for (sc, sl) in s.iter_mut().zip(all) {
+                            let world = StokesVector::new(
+                                sl.components(),
+                                sl.frame().rotated(&vt.rotation)?,
+                            );
+                            *sc = world.components_in(&out_frame)?.to_array();
+                        }
+                        if let Some(h) = h {
+                            for (sc, sh) in s.iter_mut().zip(reflected_radiance(high, h, *n, wo)?) {
+                                let x = sh.components_in(&out_frame)?.to_array();
+                                sc.iter_mut().zip(x).for_each(|(a, b)| *a += b);
+                            }
+                        }
+                        Ok(s)
+                    },
+                )
+                .collect::<Result<Vec<_>>>()
+        })
+        .collect()
+}
+
+/// One frame: [`vertex_stokes`] interpolated with the hits' barycentric coordinates
+/// (components all in the camera's frames). Pixels without a hit show `background`
+/// ([`background`]).
 pub fn render_frame(
     scene: &Scene,
     transfer: &[Vec<VertexTransfer>],
@@ -110,42 +163,7 @@ pub fn render_frame(
     background: &[[[f64; 4]; 3]],
 ) -> Result<StokesImage> {
     let cam = scene.camera();
-    let field = PerspectiveFrameField::new(cam.frame);
-    let eye = Vector3::from(cam.position);
-    let vertex_stokes: Vec<Vec<[[f64; 4]; 3]>> = scene
-        .objects()
-        .iter()
-        .zip(transfer)
-        .map(|(o, t)| {
-            let h = high[o.material].as_ref();
-            o.mesh
-                .positions()
-                .par_iter()
-                .zip(o.mesh.normals())
-                .zip(t)
-                .map(|((p, n), vt)| {
-                    let v = (eye - Vector3::from(*p)).normalize();
-                    let wo = [v.x, v.y, v.z];
-                    let local = vt.rotation.inverse() * v;
-                    let out_frame = camera_travel_frame(&field, wo)?;
-                    let mut s = [[0.0; 4]; 3];
-                    let all = vt.radiance.evaluate_all([local.x, local.y, local.z])?;
-                    for (sc, sl) in s.iter_mut().zip(all) {
-                        let world =
-                            StokesVector::new(sl.components(), sl.frame().rotated(&vt.rotation)?);
-                        *sc = world.components_in(&out_frame)?.to_array();
-                    }
-                    if let Some(h) = h {
-                        for (sc, sh) in s.iter_mut().zip(reflected_radiance(h, *n, wo)?) {
-                            let x = sh.components_in(&out_frame)?.to_array();
-                            sc.iter_mut().zip(x).for_each(|(a, b)| *a += b);
-                        }
-                    }
-                    Ok(s)
-                })
-                .collect::<Result<Vec<_>>>()
-        })
-        .collect::<Result<_>>()?;
+    let vertex_stokes = vertex_stokes(scene, transfer, high)?;
     let pixels: Vec<[[f64; 4]; 3]> = hits
         .par_iter()
         .zip(background)

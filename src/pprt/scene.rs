@@ -94,6 +94,16 @@ impl Camera {
         })
     }
 
+    /// This camera turned by `angle` (radians) about its forward axis, right-handed about
+    /// it (image-right turns towards image-down, so the scene turns the other way in the
+    /// image): the frame `R_z(angle) F` of PSH (14). Error: a non-finite angle.
+    pub fn rolled(&self, angle: f64) -> Result<Self> {
+        Ok(Self {
+            frame: self.frame.rotated_about_z(angle)?,
+            ..self.clone()
+        })
+    }
+
     /// The unit direction into the scene through the centre of pixel `(i, j)` (column,
     /// row from the top).
     pub fn pixel_direction(&self, i: usize, j: usize) -> [f64; 3] {
@@ -226,6 +236,11 @@ impl Scene {
 
     pub fn camera(&self) -> &Camera {
         &self.camera
+    }
+
+    /// Moves the camera (the transfer is view-independent: nothing is recomputed).
+    pub fn set_camera(&mut self, camera: Camera) {
+        self.camera = camera;
     }
 
     /// Number of triangles.

@@ -15,6 +15,7 @@
 //! fov_deg = 43.0
 //! width = 480
 //! height = 360
+//! roll_deg = 0.0                # optional: turn about the view axis (Camera::rolled)
 //!
 //! [settings]                    # optional, these are the defaults
 //! l_low = 4
@@ -30,7 +31,8 @@
 //! albedo = 0.2
 //!
 //! [[mesh]]
-//! type = "sphere"               # or "plane" (center, half_size) or "obj" (path, up)
+//! type = "sphere"               # or "plane" (center, half_size), "torus" (center,
+//!                               # major_radius, minor_radius; axis +z) or "obj" (path, up)
 //! center = [0.0, 0.0, 0.7]
 //! radius = 0.7
 //! material = "glass"
@@ -108,6 +110,8 @@ struct CameraSpec {
     fov_deg: f64,
     width: usize,
     height: usize,
+    #[serde(default)]
+    roll_deg: f64,
 }
 
 #[derive(Deserialize)]
@@ -161,6 +165,12 @@ enum MeshSpec {
     Plane {
         center: [f64; 3],
         half_size: f64,
+        material: String,
+    },
+    Torus {
+        center: [f64; 3],
+        major_radius: f64,
+        minor_radius: f64,
         material: String,
     },
     Obj {
@@ -280,6 +290,15 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
                 half_size,
                 material,
             } => (Mesh::plane(*center, *half_size, 24), material),
+            MeshSpec::Torus {
+                center,
+                major_radius,
+                minor_radius,
+                material,
+            } => (
+                Mesh::torus(*center, *major_radius, *minor_radius, 64, 24),
+                material,
+            ),
             MeshSpec::Obj {
                 path: p,
                 material,
@@ -302,6 +321,7 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
         c.width,
         c.height,
     )
+    .and_then(|cam| cam.rolled(c.roll_deg.to_radians()))
     .map_err(|e| field("camera", e))?;
     let scene = Scene::new(objects, materials, environment, camera)
         .map_err(|e| malformed(e.to_string()))?;

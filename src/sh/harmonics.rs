@@ -67,6 +67,47 @@ pub fn cis_m(m: usize, phi: f64) -> (f64, f64) {
     (c - lo * s, s + lo * c)
 }
 
+/// Orders between exact restarts of [`CisWalk`] (bounds its rounding drift to a few tens
+/// of ulps).
+const CIS_RESTART: usize = 32;
+
+/// `(cos(m phi), sin(m phi))` for a walk over orders `m`: one multiplication by
+/// `e^{i phi}` when `m` follows the previous order, the cached value when it repeats it,
+/// and an exact [`cis_m`] every [`CIS_RESTART`] orders or after any other jump.
+#[derive(Clone, Copy, Debug)]
+pub struct CisWalk {
+    phi: f64,
+    step: Complex64,
+    last: Option<(usize, Complex64)>,
+}
+
+impl CisWalk {
+    /// A walk at the azimuth `phi`.
+    pub fn new(phi: f64) -> Self {
+        let (c, s) = cis_m(1, phi);
+        Self {
+            phi,
+            step: Complex64::new(c, s),
+            last: None,
+        }
+    }
+
+    /// `(cos(m phi), sin(m phi))`.
+    #[inline]
+    pub fn at(&mut self, m: usize) -> (f64, f64) {
+        let e = match self.last {
+            Some((k, e)) if k == m => e,
+            Some((k, e)) if k + 1 == m && m % CIS_RESTART != 0 => e * self.step,
+            _ => {
+                let (c, s) = cis_m(m, self.phi);
+                Complex64::new(c, s)
+            }
+        };
+        self.last = Some((m, e));
+        (e.re, e.im)
+    }
+}
+
 /// Evaluator of complex and real SH up to a fixed degree.
 ///
 /// [`ShEvaluator::new`] holds `f64` Legendre tables (the fast path). Its error, relative to
@@ -129,8 +170,9 @@ impl ShEvaluator {
         check_theta(theta)?;
         finite("phi", phi)?;
         check_len("SH output", self.len(), out.len())?;
+        let mut cis = CisWalk::new(phi);
         self.columns(theta, |m, col| {
-            let (cm, sm) = cis_m(m, phi);
+            let (cm, sm) = cis.at(m);
             let sign = if m % 2 == 0 { 1.0 } else { -1.0 };
             for (k, &p) in col.iter().enumerate() {
                 let l = m + k;
@@ -149,8 +191,9 @@ impl ShEvaluator {
         check_theta(theta)?;
         finite("phi", phi)?;
         check_len("SH output", self.len(), out.len())?;
+        let mut cis = CisWalk::new(phi);
         self.columns(theta, |m, col| {
-            let (cm, sm) = cis_m(m, phi);
+            let (cm, sm) = cis.at(m);
             write_real_column(m, col, cm, sm, out);
         });
         Ok(())
@@ -352,6 +395,26 @@ mod tests {
                 assert!(
                     (batch[i * n + j] - one[j]).abs() < 1e-13,
                     "dir {i} index {j}"
+                );
+            }
+        }
+    }
+
+    /// Increasing, repeated and jumping orders (the walks of the Legendre and spin
+    /// recursions) against the direct [`cis_m`].
+    #[test]
+    fn cis_walk_stays_accurate() {
+        for phi in [2.3, -3.1, 1e-9] {
+            let mut walk = CisWalk::new(phi);
+            let orders = (0..300)
+                .chain([2, 1, 0, 1, 2, 3, 3, 4, 4])
+                .chain((5..200).rev());
+            for m in orders {
+                let (c, s) = walk.at(m);
+                let (ce, se) = cis_m(m, phi);
+                assert!(
+                    (c - ce).abs() < 1e-14 && (s - se).abs() < 1e-14,
+                    "{phi} {m}"
                 );
             }
         }

@@ -69,7 +69,7 @@ impl HalfAngle {
 }
 
 /// How the recursion of one order starts.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 enum Start {
     /// `Lambda_{l0,m} = sign 2^log cos^a(theta/2) sin^b(theta/2)` (`log` holds the norm and
     /// `0.5 log2 binom(2 l0, k)`; for the `(-sin)` powers of case (a) the sign applies to
@@ -81,7 +81,7 @@ enum Start {
 
 /// Recursion data of one order `m`: its start degree and start, and `[A_l, B_l, c_l]`
 /// (norms folded in) for `l = l0 + 1..=lmax`.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 struct Column {
     m: i64,
     l0: usize,
@@ -91,7 +91,7 @@ struct Column {
 
 /// The recursion tables of the spin-`s` harmonics up to `lmax`: evaluates
 /// `Lambda_lm(theta)` for every order at any polar angle, `O(lmax^2)` per angle.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct SpinEvaluator {
     spin: i64,
     lmax: usize,
@@ -483,8 +483,9 @@ impl SpinEvaluator {
         crate::error::finite("phi", phi)?;
         check_len("spin SH output", num_coeffs(self.lmax), out.len())?;
         out.fill(Complex64::default());
+        let mut cis = crate::sh::harmonics::CisWalk::new(phi);
         self.for_each_order(theta, |m, l0, lambda| {
-            let (c, s) = crate::sh::harmonics::cis_m(m.unsigned_abs() as usize, phi);
+            let (c, s) = cis.at(m.unsigned_abs() as usize);
             let e = Complex64::new(c, m.signum() as f64 * s);
             for (k, &v) in lambda.iter().enumerate() {
                 out[lm_index(l0 + k, m)] = e * v;

@@ -3,7 +3,7 @@
 use super::{random_kernel, random_psh, Check};
 use crate::error::Result;
 use crate::geometry::frame::{Frame, FrameField, ThetaPhiFrameField};
-use crate::polarized::{Codomain, KernelCoefficients, PshRotation};
+use crate::polarized::{Codomain, KernelCoefficients, PshEvaluator, PshRotation};
 use crate::pprt::reflected::{high_order_kernel, reflected_pbrdf, reflected_radiance};
 use crate::stokes::StokesVector;
 use nalgebra::Vector3;
@@ -35,17 +35,19 @@ fn reflected_convolution() -> Result<f64> {
     let h = k.convolve(&f)?;
     // high_order_kernel(., 0) drops band 0: the convolution path adds it back.
     let mut worst = 0.0f64;
+    let mut eval = PshEvaluator::new(lmax)?;
     for wo in [[0.2, 0.1, 0.97], [-0.5, 0.3, 0.81], [0.6, -0.6, 0.52]] {
         let w = Vector3::from(wo).normalize();
         let wl = rot.inverse() * w;
         let m = out_local.evaluate(0, [wl.x, wl.y, wl.z])?;
         let m = StokesVector::new(m.components(), m.frame().rotated(&rot)?);
-        let c = &reflected_radiance(&h, [n.x, n.y, n.z], [w.x, w.y, w.z])?[0];
+        let c = &reflected_radiance(&mut eval, &h, [n.x, n.y, n.z], [w.x, w.y, w.z])?[0];
         let band0 = {
             let mut forms = vec![[[0.0; 4]; 4]; lmax + 1];
             forms[0] = g.real_form(0).expect("band 0 exists");
             let k0 = KernelCoefficients::from_real_form(&forms)?;
-            reflected_radiance(&k0.convolve(&f)?, [n.x, n.y, n.z], [w.x, w.y, w.z])?.remove(0)
+            let h0 = k0.convolve(&f)?;
+            reflected_radiance(&mut eval, &h0, [n.x, n.y, n.z], [w.x, w.y, w.z])?.remove(0)
         };
         let fo = ThetaPhiFrameField::new().frame([w.x, w.y, w.z])?;
         let a = m.components_in(&fo)?.vector();
