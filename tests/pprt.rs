@@ -341,3 +341,55 @@ fn camera_roll_turns_s1_s2_as_psh_14() {
         assert!(worst < 1e-12, "roll {psi}: {worst}");
     }
 }
+
+/// The ablation (PSH Figs. 20, 21): three variants with their pictures, the side-by-side
+/// strips and the times; settings with nothing to ablate are an error.
+#[test]
+fn ablation_writes_three_variants_side_by_side() {
+    use psh::pprt::job::ablation_job;
+    let dir = std::env::temp_dir().join(format!("psh-ablation-{}", std::process::id()));
+    let scene = builtin_scene(5, 30, 20).unwrap();
+    let settings = TransferSettings {
+        l_low: 3,
+        l_high: 5,
+        rays: 32,
+        shadows: true,
+    };
+    let report = ablation_job(&scene, settings, &[45.0], &dir).unwrap();
+    let names: Vec<_> = report["variants"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| {
+            assert!(v["times_s"]["frame"].as_f64().unwrap() > 0.0);
+            v["variant"].as_str().unwrap().to_string()
+        })
+        .collect();
+    assert_eq!(names, ["low_only", "low_shadows", "full"]);
+    assert_eq!(report["variants"][0]["settings"]["shadows"], false);
+    assert_eq!(report["variants"][2]["settings"]["l_high"], 5);
+    for f in [
+        "ablation_s0.png",
+        "ablation_dop.png",
+        "ablation.json",
+        "full/render_s1.exr",
+        "low_only/polarizer_45.png",
+    ] {
+        assert!(dir.join(f).exists(), "{f}");
+    }
+    let strip = std::fs::File::open(dir.join("ablation_s0.png")).unwrap();
+    let info = png::Decoder::new(strip).read_info().unwrap();
+    assert_eq!((info.info().width, info.info().height), (90, 20));
+    let e = ablation_job(
+        &scene,
+        TransferSettings {
+            shadows: false,
+            ..settings
+        },
+        &[],
+        &dir,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("shadows false"), "{e}");
+}

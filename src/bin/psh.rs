@@ -86,6 +86,11 @@ struct RenderArgs {
     /// Render without shadows (no visibility rays).
     #[arg(long)]
     no_shadows: bool,
+    /// The ablation of PSH Figs. 20, 21 instead of one render: low orders only, then with
+    /// shadows, then with the high orders, each in its own subdirectory, side by side in
+    /// ablation_*.png, with times in ablation.json.
+    #[arg(long, conflicts_with = "no_shadows")]
+    ablation: bool,
     /// Image size WxH of the built-in scene (a scene file gives its camera's).
     #[arg(long, default_value = "480x360")]
     size: String,
@@ -103,6 +108,7 @@ impl Default for RenderArgs {
             l_low: None,
             rays: None,
             no_shadows: false,
+            ablation: false,
             size: "480x360".into(),
             polarizer: "0,45,90,135".into(),
         }
@@ -541,7 +547,11 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
         settings.rays,
         a.out.display()
     );
-    psh::pprt::job::render_job(&scene, settings, &polarizers, &a.out)
+    if a.ablation {
+        psh::pprt::job::ablation_job(&scene, settings, &polarizers, &a.out)
+    } else {
+        psh::pprt::job::render_job(&scene, settings, &polarizers, &a.out)
+    }
 }
 
 fn reconstruct(a: &ReconstructArgs) -> psh::Result<serde_json::Value> {

@@ -6,11 +6,12 @@ use super::mesh::Mesh;
 use super::render::{background, primary_hits, render_frame, StokesImage};
 use super::scene::{Camera, Scene, SceneMaterial, SceneObject};
 use super::sky::RayleighSky;
-use super::transfer::{high_orders, precompute, TransferSettings};
+use super::transfer::{high_orders, precompute_with_progress, TransferSettings};
 use crate::error::{Error, Result};
 use crate::io::exr::write_stokes_image;
 use crate::io::png::{srgb8, write_png, write_stokes_pngs};
 use crate::optics::{Material, PolarizedPlastic};
+use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -60,12 +61,111 @@ pub fn render_job(
     polarizers: &[f64],
     out: &Path,
 ) -> Result<serde_json::Value> {
+    Ok(render_to(scene, settings, polarizers, out)?.0)
+}
+
+/// The ablation of PSH Figs. 20 and 21: the scene rendered [`render_job`]-style into
+/// `out/low_only` (the transfer matrices `l <= l_low`, no shadows), `out/low_shadows`
+/// (+ triple-product shadows) and `out/full` (+ the high orders by convolution up to
+/// `settings.l_high`), side by side in `out/ablation_{s0,s1,s2,s3,dop,aop}.png` (one
+/// exposure and one colour scale for the three panels, left to right), and
+/// `out/ablation.json` with each variant's settings and times. Error: `settings` without
+/// shadows or high orders (nothing to ablate).
+pub fn ablation_job(
+    scene: &Scene,
+    settings: TransferSettings,
+    polarizers: &[f64],
+    out: &Path,
+) -> Result<serde_json::Value> {
+    if !settings.shadows || settings.l_high <= settings.l_low {
+        return Err(Error::InvalidArgument {
+            name: "ablation settings",
+            value: format!(
+                "shadows {}, l_low {}, l_high {}",
+                settings.shadows, settings.l_low, settings.l_high
+            ),
+            reason: "the ablation adds shadows and high orders: shadows on and l_high > l_low"
+                .into(),
+        });
+    }
+    let variants = [
+        (
+            "low_only",
+            TransferSettings {
+                shadows: false,
+                l_high: 0,
+                ..settings
+            },
+        ),
+        (
+            "low_shadows",
+            TransferSettings {
+                l_high: 0,
+                ..settings
+            },
+        ),
+        ("full", settings),
+    ];
+    let mut rows = Vec::new();
+    let mut panels = Vec::new();
+    for (name, s) in variants {
+        let (report, image) = render_to(scene, s, polarizers, &out.join(name))?;
+        rows.push(
+            json!({"variant": name, "settings": report["settings"], "times_s": report["times_s"]}),
+        );
+        panels.push(image);
+    }
+    let (w, h) = (panels[0].width, panels[0].height);
+    let strip: Vec<Vec<[f64; 4]>> = (0..3)
+        .map(|c| {
+            (0..w * h * panels.len())
+                .map(|k| {
+                    let (row, col) = (k / (w * panels.len()), k % (w * panels.len()));
+                    panels[col / w].channels[c][row * w + col % w]
+                })
+                .collect()
+        })
+        .collect();
+    let pictures = write_stokes_pngs(
+        &strip,
+        &vec![true; strip[0].len()],
+        w * panels.len(),
+        h,
+        &out.join("ablation").to_string_lossy(),
+    )?;
+    let report = json!({"variants": rows, "pictures": pictures});
+    write_json(&out.join("ablation.json"), &report)?;
+    Ok(report)
+}
+
+/// [`render_job`], also returning the image.
+fn render_to(
+    scene: &Scene,
+    settings: TransferSettings,
+    polarizers: &[f64],
+    out: &Path,
+) -> Result<(serde_json::Value, StokesImage)> {
     std::fs::create_dir_all(out).map_err(|e| Error::Io {
         path: out.to_path_buf(),
         source: e,
     })?;
     let t0 = Instant::now();
-    let transfer = precompute(scene, settings)?;
+    let vertices: usize = scene
+        .objects()
+        .iter()
+        .map(|o| o.mesh.positions().len())
+        .sum();
+    // Drawn on stderr when it is a terminal, hidden otherwise.
+    let bar = ProgressBar::new(vertices as u64).with_style(
+        ProgressStyle::with_template("precompute {bar:40} {pos}/{len} vertices, {eta} left")
+            .map_err(|e| Error::InvalidArgument {
+                name: "progress template",
+                value: e.to_string(),
+                reason: "an indicatif template".into(),
+            })?,
+    );
+    let transfer = precompute_with_progress(scene, settings, &bar)?;
+    bar.finish_and_clear();
     let high = high_orders(scene, settings)?;
     let t_pre = t0.elapsed().as_secs_f64();
     let residuals: Vec<Option<f64>> = high.iter().map(|h| h.as_ref().map(|x| x.1)).collect();
@@ -97,11 +197,6 @@ pub fn render_job(
         &exr_pattern.to_string_lossy(),
     )?);
     let t_out = t3.elapsed().as_secs_f64();
-    let vertices: usize = scene
-        .objects()
-        .iter()
-        .map(|o| o.mesh.positions().len())
-        .sum();
     let cam = scene.camera();
     let report = json!({
         "settings": {
@@ -123,10 +218,21 @@ pub fn render_job(
         },
         "pictures": written,
     });
-    let path = out.join("report.json");
-    std::fs::write(&path, serde_json::to_string_pretty(&report).expect("JSON"))
-        .map_err(|e| Error::Io { path, source: e })?;
-    Ok(report)
+    write_json(&out.join("report.json"), &report)?;
+    Ok((report, image))
+}
+
+/// Writes `value` as pretty JSON to `path`.
+fn write_json(path: &Path, value: &serde_json::Value) -> Result<()> {
+    let text = serde_json::to_string_pretty(value).map_err(|e| Error::InvalidArgument {
+        name: "JSON report",
+        value: path.display().to_string(),
+        reason: e.to_string(),
+    })?;
+    std::fs::write(path, text).map_err(|e| Error::Io {
+        path: path.to_path_buf(),
+        source: e,
+    })
 }
 
 /// The RGB picture through a polarizer at `deg` degrees, doubled (Malus halves

@@ -16,6 +16,7 @@ use crate::geometry::frame::Frame;
 use crate::polarized::{Codomain, PshRotation, PshVector, TripleTable};
 use crate::sh::harmonics::ShEvaluator;
 use crate::sh::num_coeffs;
+use indicatif::ProgressBar;
 use nalgebra::Rotation3;
 use rayon::prelude::*;
 
@@ -61,6 +62,15 @@ pub fn fibonacci_directions(n: usize) -> Vec<[f64; 3]> {
 /// or above 20, `l_high` below `l_low` (other than 0, no high orders), no rays with
 /// shadows on.
 pub fn precompute(scene: &Scene, settings: TransferSettings) -> Result<Vec<Vec<VertexTransfer>>> {
+    precompute_with_progress(scene, settings, &ProgressBar::hidden())
+}
+
+/// [`precompute`], advancing `progress` by one per vertex done.
+pub fn precompute_with_progress(
+    scene: &Scene,
+    settings: TransferSettings,
+    progress: &ProgressBar,
+) -> Result<Vec<Vec<VertexTransfer>>> {
     let l = settings.l_low;
     if !(2..=20).contains(&l)
         || (settings.shadows && settings.rays == 0)
@@ -130,6 +140,7 @@ pub fn precompute(scene: &Scene, settings: TransferSettings) -> Result<Vec<Vec<V
                     let parts = (0..3)
                         .map(|c| mats[c].apply(&local.channel(c)?))
                         .collect::<Result<Vec<_>>>()?;
+                    progress.inc(1);
                     Ok(VertexTransfer {
                         rotation,
                         visibility,
