@@ -4,7 +4,7 @@
 
 use super::mesh::Mesh;
 use super::render::{background, primary_hits, render_frame, StokesImage};
-use super::scene::{Camera, Scene, SceneMaterial, SceneObject};
+use super::scene::{Camera, EnvironmentSource, Scene, SceneMaterial, SceneObject};
 use super::sky::RayleighSky;
 use super::transfer::{high_orders, precompute_with_progress, TransferSettings};
 use crate::error::{Error, Result};
@@ -48,7 +48,8 @@ pub fn builtin_scene(lmax: usize, width: usize, height: usize) -> Result<Scene> 
         },
     ];
     let camera = Camera::look_at([0.0, -4.5, 2.2], [0.0, 0.0, 0.5], 0.75, width, height)?;
-    Scene::new(objects, materials, sky.project(lmax)?, camera)
+    Scene::new(objects, materials, sky.project(lmax)?, camera)?
+        .with_source(EnvironmentSource::Sky(sky))
 }
 
 /// Renders `scene` with `settings` into `out` (created): `render_s{0..3}.exr` (components

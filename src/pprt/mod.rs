@@ -11,10 +11,12 @@
 //! | [`scene_file`] | TOML scene files | |
 //! | [`transfer`] | visibility, PSH (54)-(56), (35)-(37), (41) per vertex | PSH Sec. 7 |
 //! | [`render`] | runtime frame, camera frames, polarizer images | PSH (14), (30) |
+//! | [`reference`] | quasi-Monte Carlo reference renderer in explicit frames | PSH (39) |
 //! | [`job`] | the built-in scene and the render job (`cargo run --release`) | |
 
 pub mod job;
 pub mod mesh;
+pub mod reference;
 pub mod reflected;
 pub mod render;
 pub mod scene;

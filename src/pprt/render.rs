@@ -66,7 +66,7 @@ pub fn primary_hits(scene: &Scene) -> Vec<Option<Hit>> {
 
 /// The camera's frame at the light travelling along `v` towards it: `[x, -y, v]` of
 /// psh's perspective frame `[x, y, -v]` at the pixel direction `-v`.
-fn camera_travel_frame(field: &PerspectiveFrameField, v: [f64; 3]) -> Result<Frame> {
+pub(crate) fn camera_travel_frame(field: &PerspectiveFrameField, v: [f64; 3]) -> Result<Frame> {
     let f = field.frame([-v[0], -v[1], -v[2]])?;
     let (x, y) = (f.x(), f.y());
     Frame::new([x.x, x.y, x.z], [-y.x, -y.y, -y.z], v)
@@ -85,11 +85,8 @@ pub fn background(scene: &Scene, hits: &[Option<Hit>]) -> Result<Vec<[[f64; 4]; 
             let mut s = [[0.0; 4]; 3];
             if hit.is_none() {
                 let d = cam.pixel_direction(k % cam.width, k / cam.width);
-                let frame = field.frame(d)?;
                 for (sc, v) in s.iter_mut().zip(env.evaluate_all(d)?) {
-                    let x = v.components_in(&frame)?.to_array();
-                    // psh's frame [x, y, d] to the travel frame [x, -y, -d].
-                    *sc = [x[0], x[1], -x[2], -x[3]];
+                    *sc = seen_through(&field, d, &v)?;
                 }
             }
             Ok(s)
@@ -150,6 +147,18 @@ pub fn vertex_stokes(
                 .collect::<Result<Vec<_>>>()
         })
         .collect()
+}
+
+/// The components of the light `s` arriving from the pixel direction `d` (towards its
+/// source) in the camera's travel frame: read in psh's perspective frame `[x, y, d]`, then
+/// `[x, -y, -d]` (PSH (14) with the frame turned by pi: `s2`, `s3` change sign).
+pub(crate) fn seen_through(
+    field: &PerspectiveFrameField,
+    d: [f64; 3],
+    s: &StokesVector,
+) -> Result<[f64; 4]> {
+    let x = s.components_in(&field.frame(d)?)?.to_array();
+    Ok([x[0], x[1], -x[2], -x[3]])
 }
 
 /// One frame: [`vertex_stokes`] interpolated with the hits' barycentric coordinates

@@ -2,6 +2,7 @@
 //! queries through a bounding volume hierarchy (the `bvh` crate).
 
 use super::mesh::Mesh;
+use super::sky::RayleighSky;
 use crate::error::{Error, Result};
 use crate::optics::{Channel, Conductor, Material, PolarizedPlastic};
 use crate::polarized::{project_operator, PshMatrix, PshVector, SpinBlock22};
@@ -157,12 +158,23 @@ pub struct Hit {
     pub v: f64,
 }
 
-/// Objects, materials, environment (PSH coefficients, RGB) and camera, with a BVH over
-/// every triangle.
+/// Where the scene's environment comes from, for the reference renderer
+/// ([`super::reference`]): PPRT uses its band-limited coefficients.
+#[derive(Clone, Debug)]
+pub enum EnvironmentSource {
+    /// The analytic sky, evaluated exactly.
+    Sky(RayleighSky),
+    /// Coefficients only (a `.npz` vector at its own band limit, or a projected map).
+    Coefficients(PshVector),
+}
+
+/// Objects, materials, environment (PSH coefficients, RGB, and their source) and camera,
+/// with a BVH over every triangle.
 pub struct Scene {
     objects: Vec<SceneObject>,
     materials: Vec<SceneMaterial>,
     environment: PshVector,
+    source: EnvironmentSource,
     camera: Camera,
     tris: Vec<Tri>,
     bvh: Bvh<f64, 3>,
@@ -215,6 +227,7 @@ impl Scene {
         Ok(Self {
             objects,
             materials,
+            source: EnvironmentSource::Coefficients(environment.clone()),
             environment,
             camera,
             tris,
@@ -232,6 +245,48 @@ impl Scene {
 
     pub fn environment(&self) -> &PshVector {
         &self.environment
+    }
+
+    /// The environment's source (by default its coefficients).
+    pub fn source(&self) -> &EnvironmentSource {
+        &self.source
+    }
+
+    /// The scene with the environment's source given. Error: a coefficient source with
+    /// another number of channels or a lower band limit than the environment.
+    pub fn with_source(mut self, source: EnvironmentSource) -> Result<Self> {
+        if let EnvironmentSource::Coefficients(v) = &source {
+            if v.channels() != 3 || v.lmax() < self.environment.lmax() {
+                return Err(Error::InvalidArgument {
+                    name: "environment source",
+                    value: format!("{} channels, lmax {}", v.channels(), v.lmax()),
+                    reason: format!(
+                        "3 channels and lmax >= the environment's {}",
+                        self.environment.lmax()
+                    ),
+                });
+            }
+        }
+        self.source = source;
+        Ok(self)
+    }
+
+    /// The diagonal of the bounding box of every vertex (the scale of ray offsets).
+    pub fn bounding_scale(&self) -> f64 {
+        let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
+        for o in &self.objects {
+            for p in o.mesh.positions() {
+                for k in 0..3 {
+                    lo[k] = lo[k].min(p[k]);
+                    hi[k] = hi[k].max(p[k]);
+                }
+            }
+        }
+        (0..3)
+            .map(|k| (hi[k] - lo[k]).powi(2))
+            .sum::<f64>()
+            .sqrt()
+            .max(1e-12)
     }
 
     pub fn camera(&self) -> &Camera {

@@ -43,7 +43,7 @@
 //! directory). Errors name the file and the field.
 
 use super::mesh::Mesh;
-use super::scene::{Camera, Scene, SceneMaterial, SceneObject};
+use super::scene::{Camera, EnvironmentSource, Scene, SceneMaterial, SceneObject};
 use super::sky::RayleighSky;
 use super::transfer::TransferSettings;
 use crate::error::{Error, Result};
@@ -181,6 +181,10 @@ enum MeshSpec {
     },
 }
 
+/// Band limit of a coefficient or map environment as the reference renderer's source
+/// ([`EnvironmentSource::Coefficients`]; evaluated per sample, so bounded).
+pub const SOURCE_LMAX: usize = 32;
+
 /// The shared data directory: `$PSH_DATA_DIR`, else `../shared/data`.
 pub fn data_dir() -> PathBuf {
     std::env::var_os("PSH_DATA_DIR")
@@ -214,24 +218,33 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
     };
     let lmax = l_high.max(settings.l_low).max(settings.l_high);
     let field = |name: &str, e: Error| malformed(format!("{name}: {e}"));
-    let environment = match &spec.environment {
+    // The reference renderer's environment: the sky itself, or the coefficients to
+    // SOURCE_LMAX (or lmax if higher).
+    let source_lmax = lmax.max(SOURCE_LMAX);
+    let source = match &spec.environment {
         EnvironmentSpec::Sky {
             sun_elevation_deg,
             sun_azimuth_deg,
         } => RayleighSky::new(sun_elevation_deg.to_radians(), sun_azimuth_deg.to_radians())
-            .and_then(|s| s.project(lmax))
+            .map(EnvironmentSource::Sky)
             .map_err(|e| field("environment", e))?,
         EnvironmentSpec::Npz { path: p, up } => {
-            let v = crate::io::npz::read_psh_npz(resolve(p))?
-                .truncated(lmax)
+            let v = crate::io::npz::read_psh_npz(resolve(p))?;
+            let v = v
+                .truncated(source_lmax.min(v.lmax()))
                 .map_err(|e| field("environment.path", e))?;
-            turn(&v, *up)?
+            EnvironmentSource::Coefficients(turn(&v, *up)?)
         }
         EnvironmentSpec::Exr { path: p, up } => {
             let map = crate::io::exr::read_stokes_map(&resolve(p).to_string_lossy())?;
-            turn(&map.project(Codomain::Full, lmax)?, *up)?
+            EnvironmentSource::Coefficients(turn(&map.project(Codomain::Full, source_lmax)?, *up)?)
         }
     };
+    let environment = match &source {
+        EnvironmentSource::Sky(sky) => sky.project(lmax),
+        EnvironmentSource::Coefficients(v) => v.truncated(lmax),
+    }
+    .map_err(|e| field("environment", e))?;
     let mut names = Vec::new();
     let mut materials = Vec::new();
     for m in &spec.material {
@@ -324,6 +337,7 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
     .and_then(|cam| cam.rolled(c.roll_deg.to_radians()))
     .map_err(|e| field("camera", e))?;
     let scene = Scene::new(objects, materials, environment, camera)
+        .and_then(|s| s.with_source(source))
         .map_err(|e| malformed(e.to_string()))?;
     Ok((scene, settings))
 }

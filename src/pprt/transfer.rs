@@ -106,7 +106,7 @@ pub fn precompute_with_progress(
         .iter()
         .map(|m| m.matrices(l))
         .collect::<Result<Vec<_>>>()?;
-    let scale = bounding_scale(scene);
+    let scale = scene.bounding_scale();
     scene
         .objects()
         .iter()
@@ -183,22 +183,4 @@ pub fn high_orders(
             Ok(Some((PshVector::from_channels(&parts)?, worst)))
         })
         .collect()
-}
-
-/// The diagonal of the scene's bounding box (for ray offsets).
-fn bounding_scale(scene: &Scene) -> f64 {
-    let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
-    for o in scene.objects() {
-        for p in o.mesh.positions() {
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-    }
-    (0..3)
-        .map(|k| (hi[k] - lo[k]).powi(2))
-        .sum::<f64>()
-        .sqrt()
-        .max(1e-12)
 }
