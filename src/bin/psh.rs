@@ -62,6 +62,10 @@ enum Command {
     /// errors against the per-point exact SH coefficients; writes table.md and
     /// false-colour error images into a directory and prints the table (Markdown).
     LightsDemo(LightsDemoArgs),
+    /// Isotropic spherical decomposition: condition numbers of M against L (ISD Fig. 13)
+    /// as CSV and PNG, and ISD filtering timed against SH rotation; writes into a
+    /// directory and prints the tables (Markdown).
+    IsdReport(LightsDemoArgs),
 }
 
 #[derive(Args)]
@@ -295,10 +299,24 @@ fn main() -> ExitCode {
         Command::Convolve(a) => convolve(&a),
         Command::Render(a) => render(&a),
         Command::LightsDemo(a) => return lights_demo(&a),
+        Command::IsdReport(a) => return isd_report(&a),
     };
     match result {
         Ok(v) => {
             println!("{v}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn isd_report(a: &LightsDemoArgs) -> ExitCode {
+    match psh::io::isd_report::write_isd_report(&a.out) {
+        Ok(report) => {
+            print!("{}", report.markdown_table());
             ExitCode::SUCCESS
         }
         Err(e) => {
