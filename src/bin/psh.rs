@@ -314,22 +314,18 @@ fn main() -> ExitCode {
 }
 
 fn isd_report(a: &LightsDemoArgs) -> ExitCode {
-    match psh::io::isd_report::write_isd_report(&a.out) {
-        Ok(report) => {
-            print!("{}", report.markdown_table());
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::from(1)
-        }
-    }
+    print_table(psh::io::isd_report::write_isd_report(&a.out).map(|r| r.markdown_table()))
 }
 
 fn lights_demo(a: &LightsDemoArgs) -> ExitCode {
-    match psh::io::lights_demo::write_lights_demo(&a.out) {
-        Ok(report) => {
-            print!("{}", report.markdown_table());
+    print_table(psh::io::lights_demo::write_lights_demo(&a.out).map(|r| r.markdown_table()))
+}
+
+/// Prints a report's Markdown table, or the error.
+fn print_table(table: psh::Result<String>) -> ExitCode {
+    match table {
+        Ok(t) => {
+            print!("{t}");
             ExitCode::SUCCESS
         }
         Err(e) => {

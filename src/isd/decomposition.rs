@@ -18,16 +18,12 @@ pub const MAX_CONDITION: f64 = 1e8;
 
 /// Checks `lmax <= MAX_LMAX`.
 pub fn check_isd_lmax(lmax: usize) -> Result<()> {
-    if lmax > MAX_LMAX {
-        return Err(Error::DegreeOutOfRange {
-            name: "ISD lmax",
-            value: lmax as i64,
-            reason: format!(
-                "the ISD transfer matrix is dense; the largest supported L is {MAX_LMAX}"
-            ),
-        });
-    }
-    Ok(())
+    crate::sh::check_degree_limit(
+        "ISD lmax",
+        lmax,
+        MAX_LMAX,
+        "the ISD transfer matrix is dense; the largest supported L",
+    )
 }
 
 /// `M` of ISD (17): `M_ij = beta_ll' pi_l' y_l'^m'(z_l^m)`, rows `i = (l', m')`, columns

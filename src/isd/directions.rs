@@ -17,7 +17,7 @@ pub enum Pattern {
     /// The first `n` points of the spherical Fibonacci lattice of `n + 1` points:
     /// `z_k = 1 - (2k + 1)/(n + 1)`, azimuth `k` times the golden angle `pi (3 - sqrt 5)`.
     /// (The full lattice of an odd number `2l + 1` of points is invariant under a half
-    /// turn about its equatorial point, which makes every band `l >= 1` singular,
+    /// turn about its equatorial point, which makes every odd band `l` singular,
     /// `proofs/isd.md` §4; dropping one point breaks the symmetry.) Its prefixes cluster
     /// at the north pole, so it suits per-band sets; points from `offset > 0` on are
     /// the lattice turned by `offset` golden angles about `(1, 1, 1)/sqrt 3`, so that

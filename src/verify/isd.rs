@@ -5,7 +5,7 @@ use crate::error::Result;
 use crate::isd::filter::{sh_rotate_dot, spherical_light};
 use crate::isd::{pi_l, DirectionSet, Isd, Pattern, PreConvolved, Profile, Sharing};
 use crate::lights::spherical::{Order, SphericalLight, SphericalLights};
-use crate::sh::harmonics::{direction_angles, sh_real, ShEvaluator};
+use crate::sh::harmonics::{direction_angles, sh_real};
 use crate::sh::num_coeffs;
 use crate::sh::transform::ShTransform;
 use crate::sh::wigner::rotation_from_rotvec;
@@ -200,16 +200,13 @@ fn legendre_beta() -> Result<f64> {
 
 fn preconvolution() -> Result<f64> {
     let lmax = 6;
-    let grid = ShTransform::new(FINE_BAND)?.grid().clone();
-    let ev = ShEvaluator::new(lmax)?;
+    let (grid, y) = super::sh::real_sh_on_grid(lmax, FINE_BAND)?;
     let points = (0..grid.len())
         .map(|i| grid.direction(i))
         .collect::<Result<Vec<_>>>()?;
-    let mut y = vec![0.0; points.len() * ev.len()];
-    ev.real_batch(&points, &mut y)?;
     let f = pseudo_random(num_coeffs(lmax), 31);
     let fw: Vec<f64> = y
-        .chunks_exact(ev.len())
+        .chunks_exact(num_coeffs(lmax))
         .map(|row| row.iter().zip(&f).map(|(a, b)| a * b).sum())
         .collect();
     let mut worst = 0.0f64;
