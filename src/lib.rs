@@ -12,6 +12,7 @@ pub use error::{Error, Result};
 pub mod exact;
 pub mod geometry;
 pub mod io;
+pub mod isd;
 pub mod lights;
 pub mod map;
 pub mod optics;

@@ -62,6 +62,10 @@ enum Command {
     /// errors against the per-point exact SH coefficients; writes table.md and
     /// false-colour error images into a directory and prints the table (Markdown).
     LightsDemo(LightsDemoArgs),
+    /// Isotropic spherical decomposition: condition numbers of M against L (ISD Fig. 13)
+    /// as CSV and PNG, and ISD filtering timed against SH rotation; writes into a
+    /// directory and prints the tables (Markdown).
+    IsdReport(LightsDemoArgs),
 }
 
 #[derive(Args)]
@@ -301,6 +305,7 @@ fn main() -> ExitCode {
         Command::Convolve(a) => convolve(&a),
         Command::Render(a) => render(&a),
         Command::LightsDemo(a) => return lights_demo(&a),
+        Command::IsdReport(a) => return isd_report(&a),
     };
     match result {
         Ok(v) => {
@@ -314,10 +319,19 @@ fn main() -> ExitCode {
     }
 }
 
+fn isd_report(a: &LightsDemoArgs) -> ExitCode {
+    print_table(psh::io::isd_report::write_isd_report(&a.out).map(|r| r.markdown_table()))
+}
+
 fn lights_demo(a: &LightsDemoArgs) -> ExitCode {
-    match psh::io::lights_demo::write_lights_demo(&a.out) {
-        Ok(report) => {
-            print!("{}", report.markdown_table());
+    print_table(psh::io::lights_demo::write_lights_demo(&a.out).map(|r| r.markdown_table()))
+}
+
+/// Prints a report's Markdown table, or the error.
+fn print_table(table: psh::Result<String>) -> ExitCode {
+    match table {
+        Ok(t) => {
+            print!("{t}");
             ExitCode::SUCCESS
         }
         Err(e) => {

@@ -12,6 +12,7 @@
 
 pub mod exr;
 pub mod filter_report;
+pub mod isd_report;
 pub mod kernel_csv;
 pub mod lights_demo;
 pub mod npz;

@@ -221,12 +221,7 @@ impl SphericalLights {
         for l in 0..=self.lmax() {
             let lf = l as f64;
             let two_l1 = 2.0 * lf + 1.0;
-            // Lambda_l Ltilde_l (SHH (2), (3)), cancellation-free form.
-            let zonal = if l == 0 {
-                PI.sqrt() * sin2 / (1.0 + alpha)
-            } else {
-                (PI / two_l1).sqrt() * two_l1 / (lf * (lf + 1.0)) * sin2 * work.dp[l]
-            };
+            let zonal = cap_zonal(l, sin2, alpha, work.dp[l]);
             let lambda = (4.0 * PI / two_l1).sqrt();
             let z0 = e * lambda * zonal;
             // grad_d Ltilde_l = sqrt((2l+1) pi) sin(a) P_l(alpha) grad_d a (SHH (7)), and
@@ -260,6 +255,35 @@ impl SphericalLights {
         }
         Ok(())
     }
+}
+
+/// The zonal coefficient `Ltilde_l` of a unit cap (SHH (3), (4)) in the
+/// cancellation-free form, from `sin^2 a`, `alpha = cos a` and `P_l'(alpha)`.
+pub fn cap_zonal(l: usize, sin2: f64, alpha: f64, dp_l: f64) -> f64 {
+    if l == 0 {
+        PI.sqrt() * sin2 / (1.0 + alpha)
+    } else {
+        let lf = l as f64;
+        let two_l1 = 2.0 * lf + 1.0;
+        (PI / two_l1).sqrt() * two_l1 / (lf * (lf + 1.0)) * sin2 * dp_l
+    }
+}
+
+/// The cap a light covers seen from `x`: its axis `w = (y - x)/|y - x|` and the zonal
+/// coefficients `E Ltilde_l`, `l < zonal.len()` (SHH (2)-(5)); an error when `x` is not
+/// finite or not outside the light.
+pub fn cap_of(light: &SphericalLight, x: [f64; 3], zonal: &mut [f64]) -> Result<[f64; 3]> {
+    let (d, dist) = light.offset(x)?;
+    let r = light.radius;
+    let sin2 = (r / dist) * (r / dist);
+    let alpha = ((dist - r) * (dist + r)).sqrt() / dist;
+    let n = zonal.len();
+    let (mut p, mut dp) = (vec![0.0; n], vec![0.0; n]);
+    legendre_and_derivative(alpha, &mut p, &mut dp);
+    for (l, z) in zonal.iter_mut().enumerate() {
+        *z = light.radiance * cap_zonal(l, sin2, alpha, dp[l]);
+    }
+    Ok(d.map(|c| c / dist))
 }
 
 /// `P_l(t)` and `P_l'(t)`, `l < p.len()`, by Bonnet's recurrence and

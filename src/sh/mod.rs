@@ -49,11 +49,16 @@ pub fn lm_of_index(i: usize) -> (usize, i64) {
 
 /// Checks `lmax <= MAX_DEGREE`.
 pub fn check_lmax(lmax: usize) -> Result<()> {
-    if lmax > MAX_DEGREE {
+    check_degree_limit("lmax", lmax, MAX_DEGREE, "the largest supported degree")
+}
+
+/// Checks `lmax <= limit`; the error names `name`, `lmax` and says `what` the limit is.
+pub fn check_degree_limit(name: &'static str, lmax: usize, limit: usize, what: &str) -> Result<()> {
+    if lmax > limit {
         return Err(Error::DegreeOutOfRange {
-            name: "lmax",
+            name,
             value: lmax as i64,
-            reason: format!("the largest supported degree is {MAX_DEGREE}"),
+            reason: format!("{what} is {limit}"),
         });
     }
     Ok(())

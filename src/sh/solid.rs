@@ -28,7 +28,7 @@
 use super::harmonics::check_direction;
 use super::legendre::diagonal_factor;
 use super::num_coeffs;
-use crate::error::{check_len, Error, Result};
+use crate::error::{check_len, Result};
 use std::f64::consts::{PI, SQRT_2};
 
 /// Largest degree of [`SolidHarmonics`]: `qbar_lm` at the poles grows like
@@ -152,15 +152,12 @@ struct Scratch {
 impl SolidHarmonics {
     /// Tables for all degrees `l <= lmax` (at most [`SOLID_MAX_DEGREE`]).
     pub fn new(lmax: usize) -> Result<Self> {
-        if lmax > SOLID_MAX_DEGREE {
-            return Err(Error::DegreeOutOfRange {
-                name: "lmax",
-                value: lmax as i64,
-                reason: format!(
-                    "solid harmonics support degrees up to {SOLID_MAX_DEGREE} (f64 range of Q_l^m)"
-                ),
-            });
-        }
+        super::check_degree_limit(
+            "lmax",
+            lmax,
+            SOLID_MAX_DEGREE,
+            "the largest degree of the solid harmonics (f64 range of Q_l^m)",
+        )?;
         let mut coefficients = Vec::with_capacity((lmax + 1) * (lmax + 2) / 2);
         for l in 0..=lmax {
             for m in 0..=l {

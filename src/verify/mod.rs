@@ -8,6 +8,7 @@
 
 mod convolution;
 mod filter;
+pub mod isd;
 mod lights;
 mod matrix;
 mod optics;
@@ -70,6 +71,7 @@ pub fn checks() -> Vec<Check> {
     all.extend(pprt::checks());
     all.extend(solid::checks());
     all.extend(lights::checks());
+    all.extend(isd::checks());
     all
 }
 

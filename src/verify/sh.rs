@@ -183,7 +183,7 @@ pub fn checks() -> Vec<Check> {
 }
 
 /// Samples of all real SH `l <= lmax` on an exact grid: `(grid, values[point][lm])`.
-fn real_sh_on_grid(lmax: usize, grid_lmax: usize) -> Result<(SphereGrid, Vec<f64>)> {
+pub(super) fn real_sh_on_grid(lmax: usize, grid_lmax: usize) -> Result<(SphereGrid, Vec<f64>)> {
     let g = SphereGrid::for_band_limit(grid_lmax)?;
     let ev = ShEvaluator::new(lmax)?;
     let dirs = (0..g.len())
