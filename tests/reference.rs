@@ -69,3 +69,45 @@ fn reference_converges_to_pprt_on_a_band_limited_scene() {
     assert!(errors[3] < 1e-3, "{errors:?}");
     assert!(slope < -0.8, "{slope}");
 }
+
+/// `bench_error` writes the contract's JSON (and the CSV and plots): PPRT rows for every
+/// band limit and setting, reference rows for every sample count and the band-limit floor.
+#[test]
+fn bench_error_writes_the_contract() {
+    use psh::pprt::bench_error::{bench_error, BenchErrorOptions};
+    let dir = std::env::temp_dir().join(format!("psh-bench-error-{}", std::process::id()));
+    let scene = builtin_scene(3, 24, 18).unwrap();
+    let options = BenchErrorOptions {
+        l_max: 3,
+        rays: 16,
+        spp: vec![1, 4],
+        ground_truth_spp: 16,
+    };
+    let report = bench_error(&scene, &options, &dir).unwrap();
+    assert_eq!(report["ground_truth_spp"], 16);
+    let rows = report["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 2 * 3 + 2 + 1);
+    for r in rows {
+        let rmse = r["rmse"].as_array().unwrap();
+        assert_eq!(rmse.len(), 4);
+        assert!(rmse.iter().all(|x| x.as_f64().unwrap().is_finite()));
+        assert!(r["frame_s"].as_f64().unwrap() > 0.0);
+        assert!(["pprt", "reference"].contains(&r["method"].as_str().unwrap()));
+    }
+    assert_eq!(rows[0]["setting"], "full");
+    assert_eq!(rows[6]["spp"], 1);
+    for f in [
+        "bench-error.json",
+        "bench-error.csv",
+        "bench-error.png",
+        "fig19.png",
+    ] {
+        assert!(dir.join(f).exists(), "{f}");
+    }
+    let bad = BenchErrorOptions {
+        l_max: 7,
+        ..options
+    };
+    let e = bench_error(&scene, &bad, &dir).unwrap_err().to_string();
+    assert!(e.contains("l_max 7"), "{e}");
+}

@@ -66,6 +66,34 @@ enum Command {
     /// as CSV and PNG, and ISD filtering timed against SH rotation; writes into a
     /// directory and prints the tables (Markdown).
     IsdReport(LightsDemoArgs),
+    /// Run time against error: PPRT at l_max = 2..9 (full, no_shadow, low_only) and the
+    /// reference renderer at a ladder of samples, against a high-sample ground truth;
+    /// writes bench-error.json, .csv, .png and fig19.png (PSH Fig. 19) into a directory.
+    BenchError(BenchErrorArgs),
+}
+
+#[derive(Args)]
+struct BenchErrorArgs {
+    /// A scene file (TOML), or `builtin`.
+    scene: String,
+    /// Output directory.
+    #[arg(long)]
+    out: PathBuf,
+    /// Image size WxH (replaces the scene camera's).
+    #[arg(long, default_value = "160x120")]
+    size: String,
+    /// Largest band limit of the PPRT rows.
+    #[arg(long, default_value_t = 9)]
+    l_max: usize,
+    /// Visibility rays per vertex of the PPRT rows.
+    #[arg(long, default_value_t = 256)]
+    rays: usize,
+    /// Samples per pixel of the reference rows, comma-separated.
+    #[arg(long, default_value = "1,4,16,64,256")]
+    spp: String,
+    /// Samples per pixel of the ground truth.
+    #[arg(long, default_value_t = 2048)]
+    ground_truth_spp: usize,
 }
 
 #[derive(Args)]
@@ -306,6 +334,7 @@ fn main() -> ExitCode {
         Command::Render(a) => render(&a),
         Command::LightsDemo(a) => return lights_demo(&a),
         Command::IsdReport(a) => return isd_report(&a),
+        Command::BenchError(a) => bench_error(&a),
     };
     match result {
         Ok(v) => {
@@ -511,12 +540,7 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
         value: value.to_string(),
         reason: reason.into(),
     };
-    let (w, h) = a
-        .size
-        .split_once('x')
-        .and_then(|(w, h)| Some((w.trim().parse().ok()?, h.trim().parse().ok()?)))
-        .filter(|&(w, h): &(usize, usize)| w > 0 && h > 0)
-        .ok_or_else(|| bad("--size", &a.size, "expected WxH, e.g. 480x360"))?;
+    let (w, h) = parse_size(&a.size)?;
     let polarizers = a
         .polarizer
         .split(',')
@@ -566,6 +590,64 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
     } else {
         psh::pprt::job::render_job(&scene, settings, &polarizers, &a.out)
     }
+}
+
+/// `WxH` with positive sizes.
+fn parse_size(size: &str) -> psh::Result<(usize, usize)> {
+    size.split_once('x')
+        .and_then(|(w, h)| Some((w.trim().parse().ok()?, h.trim().parse().ok()?)))
+        .filter(|&(w, h): &(usize, usize)| w > 0 && h > 0)
+        .ok_or_else(|| Error::InvalidArgument {
+            name: "--size",
+            value: size.to_string(),
+            reason: "expected WxH, e.g. 480x360".into(),
+        })
+}
+
+fn bench_error(a: &BenchErrorArgs) -> psh::Result<serde_json::Value> {
+    let (w, h) = parse_size(&a.size)?;
+    let spp = a
+        .spp
+        .split(',')
+        .map(|x| {
+            x.trim()
+                .parse::<usize>()
+                .ok()
+                .filter(|&n| n > 0)
+                .ok_or_else(|| Error::InvalidArgument {
+                    name: "--spp",
+                    value: x.to_string(),
+                    reason: "positive sample counts, comma-separated".into(),
+                })
+        })
+        .collect::<psh::Result<Vec<_>>>()?;
+    let mut scene = if a.scene == "builtin" {
+        psh::pprt::job::builtin_scene(a.l_max, w, h)?
+    } else {
+        psh::pprt::scene_file::load_scene(&a.scene, a.l_max)?.0
+    };
+    let cam = scene.camera().clone();
+    scene.set_camera(psh::pprt::scene::Camera {
+        width: w,
+        height: h,
+        ..cam
+    });
+    eprintln!(
+        "bench-error on {} ({} triangles, {w} x {h}): ground truth at {} spp, then PPRT l = 2..{} \
+         and the reference at {spp:?} spp, into {}",
+        a.scene,
+        scene.triangle_count(),
+        a.ground_truth_spp,
+        a.l_max,
+        a.out.display()
+    );
+    let options = psh::pprt::bench_error::BenchErrorOptions {
+        l_max: a.l_max,
+        rays: a.rays,
+        spp,
+        ground_truth_spp: a.ground_truth_spp,
+    };
+    psh::pprt::bench_error::bench_error(&scene, &options, &a.out)
 }
 
 fn reconstruct(a: &ReconstructArgs) -> psh::Result<serde_json::Value> {

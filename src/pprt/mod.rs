@@ -12,8 +12,10 @@
 //! | [`transfer`] | visibility, PSH (54)-(56), (35)-(37), (41) per vertex | PSH Sec. 7 |
 //! | [`render`] | runtime frame, camera frames, polarizer images | PSH (14), (30) |
 //! | [`reference`] | quasi-Monte Carlo reference renderer in explicit frames | PSH (39) |
+//! | [`bench_error`] | run time against error, PSH Fig. 19 | PSH Fig. 19 |
 //! | [`job`] | the built-in scene and the render job (`cargo run --release`) | |
 
+pub mod bench_error;
 pub mod job;
 pub mod mesh;
 pub mod reference;

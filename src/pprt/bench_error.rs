@@ -1,0 +1,333 @@
+//! Run time against error (`psh bench-error`): PPRT at a ladder of band limits and
+//! settings, and the reference renderer at a ladder of sample counts, each timed and
+//! measured against a high-sample ground truth ([`super::reference`], exact fidelity);
+//! PSH Fig. 19 (RMSE per Stokes component falling with the band limit) is the `full`
+//! series of it.
+//!
+//! RMSE per Stokes component is over the pixels that see a surface and the three
+//! channels, in the camera's frames; the total is the root of their sum of squares.
+
+use super::reference::{Fidelity, Reference, ReferenceSettings};
+use super::render::{background, primary_hits, render_frame, StokesImage};
+use super::scene::Scene;
+use super::transfer::{high_orders, precompute, TransferSettings};
+use crate::error::{Error, Result};
+use crate::io::plot::{LinePlot, Series};
+use serde::Serialize;
+use serde_json::json;
+use std::path::Path;
+use std::time::Instant;
+
+/// What to run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BenchErrorOptions {
+    /// PPRT at band limits `2..=l_max`.
+    pub l_max: usize,
+    /// Visibility rays per vertex of the PPRT rows.
+    pub rays: usize,
+    /// Sample counts of the reference rows.
+    pub spp: Vec<usize>,
+    /// Samples per pixel of the ground truth.
+    pub ground_truth_spp: usize,
+}
+
+/// One row of `bench-error.json` (the contract).
+#[derive(Clone, Debug, Serialize)]
+pub struct Row {
+    pub method: &'static str,
+    pub setting: &'static str,
+    pub l_max: Option<usize>,
+    pub spp: Option<usize>,
+    pub precompute_s: f64,
+    pub frame_s: f64,
+    pub rmse: [f64; 4],
+}
+
+impl Row {
+    fn total(&self) -> f64 {
+        self.rmse.iter().map(|x| x * x).sum::<f64>().sqrt()
+    }
+}
+
+/// The PPRT settings of a row: `full` (`l_low = min(l, 4)`, high orders to `l`,
+/// shadows), `no_shadow` (the same without shadows), `low_only` (`l_low = l`, no high
+/// orders, shadows).
+fn pprt_settings(setting: &str, l: usize, rays: usize) -> TransferSettings {
+    let l_low = l.min(4);
+    let high = if l > l_low { l } else { 0 };
+    match setting {
+        "no_shadow" => TransferSettings {
+            l_low,
+            l_high: high,
+            rays,
+            shadows: false,
+        },
+        "low_only" => TransferSettings {
+            l_low: l,
+            l_high: 0,
+            rays,
+            shadows: true,
+        },
+        _ => TransferSettings {
+            l_low,
+            l_high: high,
+            rays,
+            shadows: true,
+        },
+    }
+}
+
+/// RMSE per Stokes component of `a` against `truth` over the surface pixels.
+pub fn rmse(a: &StokesImage, truth: &StokesImage) -> Result<[f64; 4]> {
+    if (a.width, a.height) != (truth.width, truth.height) {
+        return Err(Error::InvalidArgument {
+            name: "image size",
+            value: format!("{} x {}", a.width, a.height),
+            reason: format!("the ground truth is {} x {}", truth.width, truth.height),
+        });
+    }
+    let mut sq = [0.0; 4];
+    let mut count = 0usize;
+    for (c, t) in a.channels.iter().zip(&truth.channels) {
+        for ((x, y), &on) in c.iter().zip(t).zip(&truth.surface) {
+            if on {
+                count += 1;
+                for q in 0..4 {
+                    sq[q] += (x[q] - y[q]).powi(2);
+                }
+            }
+        }
+    }
+    let n = count.max(1) as f64;
+    Ok(sq.map(|s| (s / n).sqrt()))
+}
+
+/// Runs the benchmark on `scene` and writes `bench-error.json`, `bench-error.csv`,
+/// `bench-error.png` (log10 total RMSE against log10 seconds per frame: PPRT `full` red,
+/// `no_shadow` orange, `low_only` purple, the reference blue; grid lines every decade)
+/// and `fig19.png` (log10 RMSE of `s0..s3`, black, red, green, blue, against `l` for
+/// PPRT `full`; grid every band and every decade) into `out`. Returns the JSON.
+pub fn bench_error(
+    scene: &Scene,
+    options: &BenchErrorOptions,
+    out: &Path,
+) -> Result<serde_json::Value> {
+    if options.l_max < 2 || options.l_max > scene.environment().lmax() || options.spp.is_empty() {
+        return Err(Error::InvalidArgument {
+            name: "bench-error options",
+            value: format!("l_max {}, spp {:?}", options.l_max, options.spp),
+            reason: format!(
+                "2 <= l_max <= the environment's band limit {}, and at least one sample count",
+                scene.environment().lmax()
+            ),
+        });
+    }
+    std::fs::create_dir_all(out).map_err(|e| Error::Io {
+        path: out.to_path_buf(),
+        source: e,
+    })?;
+    let hits = primary_hits(scene);
+    let bg = background(scene, &hits)?;
+    let reference = |samples, fidelity, seed| -> Result<(StokesImage, f64)> {
+        let r = Reference::new(
+            scene,
+            ReferenceSettings {
+                samples,
+                fidelity,
+                seed,
+            },
+        )?;
+        let t = Instant::now();
+        let image = r.render(&hits)?;
+        Ok((image, t.elapsed().as_secs_f64()))
+    };
+    let (truth, truth_s) = reference(options.ground_truth_spp, Fidelity::Exact, 1)?;
+    let mut rows = Vec::new();
+    for l in 2..=options.l_max {
+        for setting in ["full", "no_shadow", "low_only"] {
+            let settings = pprt_settings(setting, l, options.rays);
+            let t = Instant::now();
+            let transfer = precompute(scene, settings)?;
+            let high: Vec<_> = high_orders(scene, settings)?
+                .into_iter()
+                .map(|h| h.map(|x| x.0))
+                .collect();
+            let precompute_s = t.elapsed().as_secs_f64();
+            let t = Instant::now();
+            let image = render_frame(scene, &transfer, &high, &hits, &bg)?;
+            let frame_s = t.elapsed().as_secs_f64();
+            rows.push(Row {
+                method: "pprt",
+                setting,
+                l_max: Some(l),
+                spp: None,
+                precompute_s,
+                frame_s,
+                rmse: rmse(&image, &truth)?,
+            });
+        }
+    }
+    for &spp in &options.spp {
+        let (image, frame_s) = reference(spp, Fidelity::Exact, 2)?;
+        rows.push(Row {
+            method: "reference",
+            setting: "exact",
+            l_max: None,
+            spp: Some(spp),
+            precompute_s: 0.0,
+            frame_s,
+            rmse: rmse(&image, &truth)?,
+        });
+    }
+    // The band-limit floor: the reference with the environment cut at l_max.
+    let (image, frame_s) = reference(
+        options.ground_truth_spp,
+        Fidelity::BandLimitedEnvironment(options.l_max),
+        2,
+    )?;
+    rows.push(Row {
+        method: "reference",
+        setting: "band_limited_env",
+        l_max: Some(options.l_max),
+        spp: Some(options.ground_truth_spp),
+        precompute_s: 0.0,
+        frame_s,
+        rmse: rmse(&image, &truth)?,
+    });
+    let speedup = speedup_at_equal_error(&rows, options.l_max);
+    let report = json!({
+        "ground_truth_spp": options.ground_truth_spp,
+        "ground_truth_s": truth_s,
+        "image": [truth.width, truth.height],
+        "rows": rows,
+        "speedup_at_equal_rmse": speedup,
+    });
+    write_text(
+        &out.join("bench-error.json"),
+        &serde_json::to_string_pretty(&report).map_err(|e| Error::InvalidArgument {
+            name: "report",
+            value: "bench-error.json".into(),
+            reason: e.to_string(),
+        })?,
+    )?;
+    let mut csv = String::from(
+        "method,setting,l_max,spp,precompute_s,frame_s,rmse_s0,rmse_s1,rmse_s2,rmse_s3\n",
+    );
+    for r in &rows {
+        let opt = |x: Option<usize>| x.map_or(String::new(), |v| v.to_string());
+        csv += &format!(
+            "{},{},{},{},{:.6},{:.6},{:.6e},{:.6e},{:.6e},{:.6e}\n",
+            r.method,
+            r.setting,
+            opt(r.l_max),
+            opt(r.spp),
+            r.precompute_s,
+            r.frame_s,
+            r.rmse[0],
+            r.rmse[1],
+            r.rmse[2],
+            r.rmse[3]
+        );
+    }
+    write_text(&out.join("bench-error.csv"), &csv)?;
+    plot_error_time(&rows, &out.join("bench-error.png"))?;
+    plot_fig19(&rows, options.l_max, &out.join("fig19.png"))?;
+    Ok(report)
+}
+
+/// The reference's frame time at PPRT `full`'s total RMSE at `l_max`, by log-log
+/// interpolation along the sample ladder (extrapolated from the last two counts when the
+/// ladder does not reach that error), over PPRT's frame time.
+fn speedup_at_equal_error(rows: &[Row], l_max: usize) -> serde_json::Value {
+    let Some(p) = rows
+        .iter()
+        .find(|r| r.method == "pprt" && r.setting == "full" && r.l_max == Some(l_max))
+    else {
+        return serde_json::Value::Null;
+    };
+    let refs: Vec<&Row> = rows.iter().filter(|r| r.setting == "exact").collect();
+    if refs.len() < 2 {
+        return serde_json::Value::Null;
+    }
+    let target = p.total();
+    let first_below = refs.iter().position(|r| r.total() <= target);
+    let k = match first_below {
+        Some(0) => 0,
+        Some(i) => i - 1,
+        None => refs.len() - 2,
+    };
+    let (a, b) = (refs[k], refs[k + 1]);
+    let slope = (b.frame_s.ln() - a.frame_s.ln()) / (b.total().ln() - a.total().ln());
+    let t = (a.frame_s.ln() + slope * (target.ln() - a.total().ln())).exp();
+    json!({
+        "pprt_l_max": l_max, "pprt_rmse": target, "pprt_frame_s": p.frame_s,
+        "reference_frame_s": t, "ratio": t / p.frame_s,
+        "extrapolated": matches!(first_below, None | Some(0)),
+    })
+}
+
+fn write_text(path: &Path, text: &str) -> Result<()> {
+    std::fs::write(path, text).map_err(|e| Error::Io {
+        path: path.to_path_buf(),
+        source: e,
+    })
+}
+
+/// Decades containing the positive values `xs` (log10, widened to whole decades).
+fn decades(xs: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = xs
+        .filter(|x| *x > 0.0 && x.is_finite())
+        .map(f64::log10)
+        .fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x), b.max(x)));
+    if lo > hi {
+        (-1.0, 0.0)
+    } else {
+        (lo.floor(), hi.ceil().max(lo.floor() + 1.0))
+    }
+}
+
+fn plot_error_time(rows: &[Row], path: &Path) -> Result<()> {
+    let xr = decades(rows.iter().map(|r| r.frame_s));
+    let yr = decades(rows.iter().map(Row::total));
+    let mut plot = LinePlot::new(xr, yr, (1.0, 1.0))?;
+    for (method, setting, color) in [
+        ("pprt", "full", [200, 30, 30]),
+        ("pprt", "no_shadow", [240, 150, 20]),
+        ("pprt", "low_only", [130, 50, 170]),
+        ("reference", "exact", [30, 80, 200]),
+    ] {
+        plot.add(Series {
+            color,
+            dashed: false,
+            points: rows
+                .iter()
+                .filter(|r| r.method == method && r.setting == setting)
+                .map(|r| (r.frame_s.log10(), r.total().log10()))
+                .collect(),
+        });
+    }
+    plot.write_png(path, 640, 480)
+}
+
+fn plot_fig19(rows: &[Row], l_max: usize, path: &Path) -> Result<()> {
+    let full: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.method == "pprt" && r.setting == "full")
+        .collect();
+    let yr = decades(full.iter().flat_map(|r| r.rmse));
+    let mut plot = LinePlot::new((2.0, l_max.max(3) as f64), yr, (1.0, 1.0))?;
+    for (q, color) in [[0, 0, 0], [200, 30, 30], [30, 150, 30], [30, 80, 200]]
+        .into_iter()
+        .enumerate()
+    {
+        plot.add(Series {
+            color,
+            dashed: false,
+            points: full
+                .iter()
+                .map(|r| (r.l_max.unwrap_or(0) as f64, r.rmse[q].log10()))
+                .collect(),
+        });
+    }
+    plot.write_png(path, 640, 480)
+}
