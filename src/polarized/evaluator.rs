@@ -44,6 +44,20 @@ impl PshEvaluator {
         self.scalar.lmax()
     }
 
+    /// The real SH PSH (12) and spin-2 SH PSH (26) of all `l <= lmax` at the unit
+    /// direction `w` (flat order; the spin-2 values are zero for `l < 2`), whose PSH basis
+    /// Stokes vectors PSH (29) are in the theta-phi frame at `w`. Error: `w` not a unit
+    /// vector.
+    pub fn basis(&mut self, w: [f64; 3]) -> Result<(&[f64], &[Complex64])> {
+        let (t, p) = direction_angles(w)?;
+        self.scalar.real(t, p, &mut self.yr)?;
+        match &self.spin {
+            Some(s) => s.values(t, p, &mut self.y2)?,
+            None => self.y2.fill(Complex64::default()),
+        }
+        Ok((&self.yr, &self.y2))
+    }
+
     /// The Stokes vectors of every channel of `v` at the unit direction `w` by PSH (30),
     /// in the theta-phi frame there (PSH (28)). Errors: `v` above this evaluator's band
     /// limit, `w` not a unit vector.
@@ -55,12 +69,7 @@ impl PshEvaluator {
                 reason: format!("the evaluator's band limit is {}", self.lmax()),
             });
         }
-        let (t, p) = direction_angles(w)?;
-        self.scalar.real(t, p, &mut self.yr)?;
-        match &self.spin {
-            Some(s) => s.values(t, p, &mut self.y2)?,
-            None => self.y2.fill(Complex64::default()),
-        }
+        self.basis(w)?;
         let frame = ThetaPhiFrameField::new().frame(w)?;
         let comps = v.codomain().components();
         let np = comps.len();
