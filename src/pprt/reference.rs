@@ -86,7 +86,7 @@ impl AtPoint<'_> {
         Ok(match self {
             AtPoint::Plastic(p) => {
                 let m = p.transform(wi, wo)?;
-                [m.clone(), m.clone(), m]
+                [m, m, m]
             }
             AtPoint::Conductor(m) => [
                 m[0].transform(wi, wo)?,
