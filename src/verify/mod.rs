@@ -15,6 +15,7 @@ mod optics;
 mod oracle;
 mod polarized;
 mod pprt;
+pub use pprt::reference_discrepancy as pprt_reference_discrepancy;
 mod sh;
 mod solid;
 mod stokes;

@@ -16,7 +16,65 @@ pub fn checks() -> Vec<Check> {
         tolerance: 1e-12,
         proof: Some("proofs/reflected-convolution.md"),
         run: reflected_convolution,
+    }, Check {
+        id: "pprt.reference_vs_pprt",
+        source: "PSH (39), (41)",
+        description: "the quasi-Monte Carlo reference integrating what unshadowed PPRT integrates (band-limited sky and pBRDF matrices, L = 3, 4,096 directions) against the PPRT vertex values of the built-in scene (RMS relative to the largest s0)",
+        tolerance: 1e-3,
+        proof: None,
+        run: || reference_discrepancy(4096),
     }]
+}
+
+/// RMS difference (relative to the largest `s0`) between the reference at
+/// `Fidelity::BandLimited(3)` with `samples` directions and unshadowed PPRT at `l_low = 3`,
+/// over every 173rd vertex of the built-in scene, in the camera's frames.
+pub fn reference_discrepancy(samples: usize) -> Result<f64> {
+    use crate::pprt::reference::{Fidelity, Reference, ReferenceSettings};
+    let l = 3;
+    let scene = crate::pprt::job::builtin_scene(l, 16, 12)?;
+    let settings = crate::pprt::transfer::TransferSettings {
+        l_low: l,
+        l_high: 0,
+        rays: 1,
+        shadows: false,
+    };
+    let transfer = crate::pprt::transfer::precompute(&scene, settings)?;
+    let none = vec![None; scene.materials().len()];
+    let pprt = crate::pprt::render::vertex_stokes(&scene, &transfer, &none)?;
+    let vertices: Vec<(usize, usize)> = scene
+        .objects()
+        .iter()
+        .enumerate()
+        .flat_map(|(o, obj)| {
+            (0..obj.mesh.positions().len())
+                .step_by(173)
+                .map(move |v| (o, v))
+        })
+        .collect();
+    let scale = pprt
+        .iter()
+        .flatten()
+        .map(|v| v[1][0].abs())
+        .fold(0.0, f64::max);
+    let reference = Reference::new(
+        &scene,
+        ReferenceSettings {
+            samples,
+            fidelity: Fidelity::BandLimited(l),
+            seed: 7,
+        },
+    )?;
+    let got = reference.vertex_stokes(&vertices)?;
+    let mut sq = 0.0;
+    for (g, &(o, v)) in got.iter().zip(&vertices) {
+        for c in 0..3 {
+            for q in 0..4 {
+                sq += (g[c][q] - pprt[o][v][c][q]).powi(2);
+            }
+        }
+    }
+    Ok((sq / (12 * vertices.len()) as f64).sqrt() / scale)
 }
 
 fn reflected_convolution() -> Result<f64> {
