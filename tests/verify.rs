@@ -97,3 +97,8 @@ fn verify_solid() {
 fn verify_lights() {
     run_group("lights.");
 }
+
+#[test]
+fn verify_polygon() {
+    run_group("polygon.");
+}

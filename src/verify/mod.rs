@@ -13,6 +13,7 @@ mod matrix;
 mod optics;
 mod oracle;
 mod polarized;
+pub mod polygon;
 mod pprt;
 mod sh;
 mod solid;
@@ -70,6 +71,7 @@ pub fn checks() -> Vec<Check> {
     all.extend(pprt::checks());
     all.extend(solid::checks());
     all.extend(lights::checks());
+    all.extend(polygon::checks());
     all
 }
 
