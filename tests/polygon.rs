@@ -187,3 +187,14 @@ fn bad_input_is_an_error() {
         .chain(f.gradients.iter().flatten())
         .all(|c| c.is_finite()));
 }
+
+/// The measured orders of the grid interpolants (the check `polygon.hermite_order`
+/// requires the serendipity slope to be at least 3.5).
+#[test]
+fn interpolation_orders() {
+    let slopes = psh::verify::polygon::interpolation_slopes().unwrap();
+    for (scheme, errs, slope) in &slopes {
+        println!("{scheme:?}: slope {slope:.2}, (h, max error) {errs:?}");
+    }
+    assert!(slopes[0].2 > 1.7 && slopes[2].2 > 3.5);
+}

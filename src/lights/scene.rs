@@ -6,9 +6,9 @@
 //! and [`LightGrid::build`] reports such a point as an error), so the grid box, a thin
 //! slab around the floor, stays below the lowest near light.
 
-use super::grid::LightGrid;
+use super::grid::{LightGrid, LightSource};
 
-use super::spherical::{Order, SphericalLight, SphericalLights};
+use super::spherical::{Order, SphericalLight};
 use crate::error::Result;
 use crate::verify::pseudo_random;
 
@@ -96,8 +96,8 @@ pub fn grid_errors(
     Ok((sq / count.max(1) as f64, mean, per_point))
 }
 
-/// The exact coefficients at every shading point (SHH (2), all lights).
-pub fn exact_coefficients(lights: &SphericalLights, points: &[[f64; 3]]) -> Result<Vec<Vec<f64>>> {
+/// The exact coefficients at every shading point (SHH (2) or SHG (4), all lights).
+pub fn exact_coefficients(lights: &impl LightSource, points: &[[f64; 3]]) -> Result<Vec<Vec<f64>>> {
     points
         .iter()
         .map(|&x| lights.field(x, Order::Values).map(|f| f.coefficients))

@@ -2,6 +2,7 @@
 
 use super::Check;
 use crate::error::Result;
+use crate::lights::grid::{Interpolation, Lattice, LightGrid, Refinement};
 use crate::lights::polygon::{reference, PolygonalLight, PolygonalLights};
 use crate::lights::spherical::Order;
 
@@ -33,6 +34,14 @@ pub fn checks() -> Vec<Check> {
             tolerance: 1e-9,
             proof: Some("proofs/polygon-lights.md"),
             run: gradient_vs_fd,
+        },
+        Check {
+            id: "polygon.hermite_order",
+            source: "SHG Sec. 6.2",
+            description: "cubic Hermite serendipity interpolation on uniform grids (levels 1-4 of a 0.4-wide box 0.6-1.2 from a triangle and a quad, l <= 8): 4 minus the least-squares slope of log(max error) vs log(h) (the slope must be >= 3.5; tests/polygon.rs prints it with the trilinear and zero-cross-derivative Hermite slopes)",
+            tolerance: 0.5,
+            proof: Some("proofs/polygon-lights.md"),
+            run: hermite_order,
         },
         Check {
             id: "polygon.small_light_relative",
@@ -281,4 +290,78 @@ pub fn gradient_fd_errors() -> Result<Vec<(&'static str, f64)>> {
         errors.push((c.name, err / scale));
     }
     Ok(errors)
+}
+
+fn hermite_order() -> Result<f64> {
+    let slopes = interpolation_slopes()?;
+    Ok(4.0 - slopes[2].2)
+}
+
+/// An interpolation scheme, its `(h, largest error)` per grid level and the fitted slope.
+pub type Convergence = (Interpolation, Vec<(f64, f64)>, f64);
+
+/// For trilinear, zero-cross-derivative Hermite and serendipity interpolation: the
+/// largest interpolation error at 64 points of the box at grid levels 1-4 and the
+/// least-squares slope of `log(error)` against `log(h)`.
+pub fn interpolation_slopes() -> Result<Vec<Convergence>> {
+    let lights = PolygonalLights::new(
+        vec![
+            PolygonalLight::new(
+                vec![[-0.4, -0.3, 1.0], [0.6, -0.2, 1.1], [0.0, 0.5, 0.9]],
+                1.0,
+            )?,
+            PolygonalLight::new(
+                vec![
+                    [1.0, -0.5, -0.3],
+                    [1.2, 0.5, -0.3],
+                    [1.2, 0.5, 0.4],
+                    [1.0, -0.5, 0.4],
+                ],
+                0.5,
+            )?,
+        ],
+        8,
+    )?;
+    let (lo, hi) = ([-0.2, -0.2, -0.2], [0.2, 0.2, 0.2]);
+    let r = super::pseudo_random(3 * 64, 11);
+    let points: Vec<[f64; 3]> = r
+        .chunks_exact(3)
+        .map(|c| std::array::from_fn(|i| 0.19 * c[i]))
+        .collect();
+    let exact: Vec<Vec<f64>> = points
+        .iter()
+        .map(|&x| lights.field(x, Order::Values).map(|f| f.coefficients))
+        .collect::<Result<_>>()?;
+    let mut out = Vec::new();
+    for scheme in [
+        Interpolation::Trilinear,
+        Interpolation::Hermite,
+        Interpolation::Serendipity,
+    ] {
+        let mut errs = Vec::new();
+        for level in 1..=4 {
+            let grid = LightGrid::build(
+                &lights,
+                Lattice::new(lo, hi, level)?,
+                &points,
+                Refinement::Uniform,
+            )?;
+            let mut e = 0.0f64;
+            for (x, want) in points.iter().zip(&exact) {
+                let got = grid.interpolate_with(*x, scheme)?;
+                e = got
+                    .iter()
+                    .zip(want)
+                    .fold(e, |a, (g, w)| a.max((g - w).abs()));
+            }
+            errs.push((0.4 / (1u32 << level) as f64, e));
+        }
+        let n = errs.len() as f64;
+        let (lx, ly): (Vec<f64>, Vec<f64>) = errs.iter().map(|(h, e)| (h.ln(), e.ln())).unzip();
+        let (mx, my) = (lx.iter().sum::<f64>() / n, ly.iter().sum::<f64>() / n);
+        let sxy: f64 = lx.iter().zip(&ly).map(|(x, y)| (x - mx) * (y - my)).sum();
+        let sxx: f64 = lx.iter().map(|x| (x - mx) * (x - mx)).sum();
+        out.push((scheme, errs, sxy / sxx));
+    }
+    Ok(out)
 }

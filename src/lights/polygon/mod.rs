@@ -311,3 +311,13 @@ impl PolygonalLights {
         })
     }
 }
+
+impl crate::lights::grid::LightSource for PolygonalLights {
+    fn lmax(&self) -> usize {
+        PolygonalLights::lmax(self)
+    }
+
+    fn field(&self, x: [f64; 3], order: Order) -> Result<LightField> {
+        PolygonalLights::field(self, x, order)
+    }
+}
