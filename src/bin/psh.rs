@@ -62,6 +62,10 @@ enum Command {
     /// errors against the per-point exact SH coefficients; writes table.md and
     /// false-colour error images into a directory and prints the table (Markdown).
     LightsDemo(LightsDemoArgs),
+    /// Many triangular lights (SHG): per-point exact SH coefficients vs grids of
+    /// coefficients and gradients interpolated trilinearly and by cubic Hermite;
+    /// writes table.md and error images into --out.
+    PolygonLightsDemo(LightsDemoArgs),
 }
 
 #[derive(Args)]
@@ -295,10 +299,24 @@ fn main() -> ExitCode {
         Command::Convolve(a) => convolve(&a),
         Command::Render(a) => render(&a),
         Command::LightsDemo(a) => return lights_demo(&a),
+        Command::PolygonLightsDemo(a) => return polygon_lights_demo(&a),
     };
     match result {
         Ok(v) => {
             println!("{v}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn polygon_lights_demo(a: &LightsDemoArgs) -> ExitCode {
+    match psh::io::polygon_lights_demo::write_polygon_lights_demo(&a.out) {
+        Ok(report) => {
+            print!("{}", report.markdown_table());
             ExitCode::SUCCESS
         }
         Err(e) => {

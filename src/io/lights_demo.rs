@@ -99,9 +99,13 @@ fn row(
 }
 
 /// Relative error per floor point as a false-colour image: `log10` of
-/// `|L - L_exact| / |L_exact|` from `1e-6` (blue) to `1` (red).
-fn error_image(path: &Path, scene: &Scene, per_point: &[f64], exact: &[Vec<f64>]) -> Result<()> {
-    let n = scene.floor_side;
+/// `|L - L_exact| / |L_exact|` from `1e-6` (blue) to `1` (red), for an `n x n` floor.
+pub(crate) fn error_image(
+    path: &Path,
+    n: usize,
+    per_point: &[f64],
+    exact: &[Vec<f64>],
+) -> Result<()> {
     let rgb: Vec<[u8; 3]> = (0..n * n)
         .map(|i| {
             // Row 0 of the image at the largest y.
@@ -167,7 +171,7 @@ pub fn write_lights_demo(out: &Path) -> Result<DemoReport> {
     let mut files = Vec::new();
     for (name, e) in &images {
         let path = out.join(name);
-        error_image(&path, &scene, e, &exact)?;
+        error_image(&path, scene.floor_side, e, &exact)?;
         files.push(path);
     }
     let report = DemoReport {

@@ -6,7 +6,7 @@
 //! and [`LightGrid::build`] reports such a point as an error), so the grid box, a thin
 //! slab around the floor, stays below the lowest near light.
 
-use super::grid::{LightGrid, LightSource};
+use super::grid::{Interpolation, LightGrid, LightSource};
 
 use super::spherical::{Order, SphericalLight};
 use crate::error::Result;
@@ -82,11 +82,21 @@ pub fn grid_errors(
     points: &[[f64; 3]],
     exact: &[Vec<f64>],
 ) -> Result<(f64, f64, Vec<f64>)> {
+    grid_errors_with(grid, points, exact, Interpolation::Hermite)
+}
+
+/// [`grid_errors`] with the interpolation `scheme`.
+pub fn grid_errors_with(
+    grid: &LightGrid,
+    points: &[[f64; 3]],
+    exact: &[Vec<f64>],
+    scheme: Interpolation,
+) -> Result<(f64, f64, Vec<f64>)> {
     let mut sq = 0.0;
     let mut count = 0usize;
     let mut per_point = Vec::with_capacity(points.len());
     for (x, e) in points.iter().zip(exact) {
-        let got = grid.interpolate(*x)?;
+        let got = grid.interpolate_with(*x, scheme)?;
         let d2: f64 = got.iter().zip(e).map(|(a, b)| (a - b) * (a - b)).sum();
         sq += d2;
         count += e.len();

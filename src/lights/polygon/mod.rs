@@ -6,7 +6,8 @@
 //! - [`boundary`]: the per-edge recurrences for the zonal integrals and the Reynolds
 //!   boundary terms;
 //! - [`clip`]: clipping against the horizon of a shading point;
-//! - [`reference`]: adaptive quadrature over the planar light, the independent oracle.
+//! - [`reference`]: adaptive quadrature over the planar light, the independent oracle;
+//! - [`scene`]: a procedural many-light scene for the demo.
 //!
 //! A light is a planar, convex polygon (vertices in order, at least 3) of uniform
 //! radiance `E`, emitting on both sides. Seen from `x` it covers the spherical polygon
@@ -16,6 +17,7 @@
 pub mod boundary;
 pub mod clip;
 pub mod reference;
+pub mod scene;
 pub mod zonal_factorization;
 
 use crate::error::{finite, Error, Result};
