@@ -314,22 +314,20 @@ fn main() -> ExitCode {
 }
 
 fn polygon_lights_demo(a: &LightsDemoArgs) -> ExitCode {
-    match psh::io::polygon_lights_demo::write_polygon_lights_demo(&a.out) {
-        Ok(report) => {
-            print!("{}", report.markdown_table());
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::from(1)
-        }
-    }
+    print_table(
+        psh::io::polygon_lights_demo::write_polygon_lights_demo(&a.out).map(|r| r.markdown_table()),
+    )
 }
 
 fn lights_demo(a: &LightsDemoArgs) -> ExitCode {
-    match psh::io::lights_demo::write_lights_demo(&a.out) {
-        Ok(report) => {
-            print!("{}", report.markdown_table());
+    print_table(psh::io::lights_demo::write_lights_demo(&a.out).map(|r| r.markdown_table()))
+}
+
+/// Prints a demo's table, or its error.
+fn print_table(table: psh::Result<String>) -> ExitCode {
+    match table {
+        Ok(table) => {
+            print!("{table}");
             ExitCode::SUCCESS
         }
         Err(e) => {

@@ -174,7 +174,7 @@ pub fn write_lights_demo(out: &Path) -> Result<DemoReport> {
         error_image(&path, scene.floor_side, e, &exact)?;
         files.push(path);
     }
-    let report = DemoReport {
+    let mut report = DemoReport {
         lights: scene.lights.len(),
         shading_points: scene.points.len(),
         reference_ms,
@@ -182,9 +182,15 @@ pub fn write_lights_demo(out: &Path) -> Result<DemoReport> {
         equal_time,
         files,
     };
-    let table = out.join("table.md");
-    std::fs::write(&table, report.markdown_table()).map_err(|e| io_error(&table, e))?;
-    let mut report = report;
-    report.files.push(table);
+    report
+        .files
+        .push(write_table(out, &report.markdown_table())?);
     Ok(report)
+}
+
+/// Writes `markdown` to `out/table.md` and returns the path.
+pub(crate) fn write_table(out: &Path, markdown: &str) -> Result<PathBuf> {
+    let table = out.join("table.md");
+    std::fs::write(&table, markdown).map_err(|e| io_error(&table, e))?;
+    Ok(table)
 }

@@ -5,7 +5,7 @@
 //! errors and times (a table like SHG Sec. 7), with false-colour error images.
 
 use super::io_error;
-use super::lights_demo::error_image;
+use super::lights_demo::{error_image, write_table};
 use crate::error::Result;
 use crate::lights::grid::{Interpolation, Lattice, LightGrid, Refinement};
 use crate::lights::polygon::scene::demo_scene;
@@ -118,16 +118,15 @@ pub fn write_polygon_lights_demo(out: &Path) -> Result<DemoReport> {
             }
         }
     }
-    let report = DemoReport {
+    let mut report = DemoReport {
         lights: scene.lights.len(),
         shading_points: scene.points.len(),
         reference_ms,
         rows,
         files,
     };
-    let table = out.join("table.md");
-    std::fs::write(&table, report.markdown_table()).map_err(|e| io_error(&table, e))?;
-    let mut report = report;
-    report.files.push(table);
+    report
+        .files
+        .push(write_table(out, &report.markdown_table())?);
     Ok(report)
 }

@@ -28,14 +28,7 @@ pub struct Scene {
 /// and `far` lights of radius 1-3 at distance 15-40, from a fixed seed; the grid box is
 /// `[-1, 1]^2 x [-0.05, 0.05]`.
 pub fn demo_scene(floor_side: usize, near: usize, far: usize, seed: u64) -> Result<Scene> {
-    let mut points = Vec::with_capacity(floor_side * floor_side);
-    for j in 0..floor_side {
-        for i in 0..floor_side {
-            let u = -1.0 + 2.0 * (i as f64 + 0.5) / floor_side as f64;
-            let v = -1.0 + 2.0 * (j as f64 + 0.5) / floor_side as f64;
-            points.push([u, v, 0.0]);
-        }
-    }
+    let points = floor_points(floor_side);
     let r = pseudo_random(3 * (near + far), seed);
     let mut k = 0;
     let mut next = || {
@@ -72,6 +65,13 @@ pub fn demo_scene(floor_side: usize, near: usize, far: usize, seed: u64) -> Resu
         lights,
         bounds: ([-1.0, -1.0, -0.05], [1.0, 1.0, 0.05]),
     })
+}
+
+/// An `n x n` grid of shading points on the floor `z = 0`, `[-1, 1]^2`, row by row (cell
+/// centers).
+pub fn floor_points(n: usize) -> Vec<[f64; 3]> {
+    let c = |i: usize| -1.0 + 2.0 * (i as f64 + 0.5) / n as f64;
+    (0..n * n).map(|k| [c(k % n), c(k / n), 0.0]).collect()
 }
 
 /// Interpolation errors of a grid against the per-point exact coefficients `exact` (one

@@ -138,6 +138,17 @@ fn max_abs<'a>(v: impl Iterator<Item = &'a f64>) -> f64 {
     v.fold(0.0, |a, b| a.max(b.abs()))
 }
 
+/// The largest difference of the gradients relative to the largest reference entry.
+fn relative_error(got: &[[f64; 3]], want: &[[f64; 3]]) -> f64 {
+    let scale = max_abs(want.iter().flatten());
+    let err = got
+        .iter()
+        .flatten()
+        .zip(want.iter().flatten())
+        .fold(0.0f64, |a, (g, w)| a.max((g - w).abs()));
+    err / scale
+}
+
 /// Per case, the largest absolute coefficient error (unit radiance) and that error
 /// relative to the case's largest coefficient.
 pub fn coefficient_errors() -> Result<Vec<(&'static str, f64, f64)>> {
@@ -209,16 +220,7 @@ pub fn gradient_quadrature_errors() -> Result<Vec<(&'static str, f64)>> {
         let lights = PolygonalLights::new(vec![c.light.clone()], LMAX)?;
         let got = lights.field(c.x, Order::Gradients)?.gradients;
         let want = reference::gradients(&c.light, c.x, LMAX, 1e-12)?;
-        let scale = max_abs(want.iter().flatten());
-        let err = max_abs(
-            got.iter()
-                .flatten()
-                .zip(want.iter().flatten())
-                .map(|(a, b)| a - b)
-                .collect::<Vec<_>>()
-                .iter(),
-        );
-        errors.push((c.name, err / scale));
+        errors.push((c.name, relative_error(&got, &want)));
     }
     Ok(errors)
 }
@@ -278,16 +280,7 @@ pub fn gradient_fd_errors() -> Result<Vec<(&'static str, f64)>> {
         });
         let f = |x: [f64; 3]| lights.field(x, Order::Values).map(|f| f.coefficients);
         let want = central_difference_8(&f, c.x, 2e-3 * near)?;
-        let scale = max_abs(want.iter().flatten());
-        let err = max_abs(
-            got.iter()
-                .flatten()
-                .zip(want.iter().flatten())
-                .map(|(a, b)| a - b)
-                .collect::<Vec<_>>()
-                .iter(),
-        );
-        errors.push((c.name, err / scale));
+        errors.push((c.name, relative_error(&got, &want)));
     }
     Ok(errors)
 }

@@ -7,6 +7,7 @@
 
 use super::PolygonalLight;
 use crate::error::Result;
+use crate::lights::scene::floor_points;
 use crate::verify::pseudo_random;
 
 /// Shading points and lights.
@@ -24,14 +25,7 @@ pub struct PolygonScene {
 
 /// The scene with `near` random triangles (edges 0.1-0.3, radiance 1-2) and four walls.
 pub fn demo_scene(floor_side: usize, near: usize, seed: u64) -> Result<PolygonScene> {
-    let mut points = Vec::with_capacity(floor_side * floor_side);
-    for j in 0..floor_side {
-        for i in 0..floor_side {
-            let u = -1.0 + 2.0 * (i as f64 + 0.5) / floor_side as f64;
-            let v = -1.0 + 2.0 * (j as f64 + 0.5) / floor_side as f64;
-            points.push([u, v, 0.0]);
-        }
-    }
+    let points = floor_points(floor_side);
     let r = pseudo_random(8 * near, seed);
     let mut lights = Vec::with_capacity(near + 4);
     for c in r.chunks_exact(8) {
