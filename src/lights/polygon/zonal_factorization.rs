@@ -172,8 +172,8 @@ impl ZonalFactorization {
 mod tests {
     use super::*;
 
-    /// The conditioning of every band up to l = 20 (printed), and the fraction of
-    /// shared bands.
+    /// Every band up to l = 20 is conditioned below 50 (measured: at most 42.3); the
+    /// low bands share their lobes; the weights invert `C_l` (checked on band 3).
     #[test]
     fn bands_are_well_conditioned() {
         let f = ZonalFactorization::new(20).unwrap();
@@ -183,7 +183,20 @@ mod tests {
                 b.condition,
                 b.lobes[0] == 0
             );
-            assert!(b.condition < CONDITION_LIMIT);
+            assert!(b.condition < 50.0, "l = {l}");
+        }
+        assert!(f.bands[..2].iter().all(|b| b.lobes[0] == 0));
+        // sum_j alpha_mj C[m', j] = delta_mm' with C from the SH at the lobes.
+        let (l, b) = (3, &f.bands[3]);
+        let ev = ShEvaluator::new(l).unwrap();
+        let dirs: Vec<[f64; 3]> = b.lobes.iter().map(|&j| f.directions[j]).collect();
+        let c = zonal_matrix(&ev, l, &dirs).unwrap();
+        for m in 0..7 {
+            for mp in 0..7 {
+                let s: f64 = (0..7).map(|j| b.alpha[m * 7 + j] * c[(mp, j)]).sum();
+                let want = if m == mp { 1.0 } else { 0.0 };
+                assert!((s - want).abs() < 1e-13, "{m} {mp}: {s}");
+            }
         }
     }
 }
