@@ -102,3 +102,8 @@ fn verify_lights() {
 fn verify_isd() {
     run_group("isd.");
 }
+
+#[test]
+fn verify_polygon() {
+    run_group("polygon.");
+}

@@ -62,6 +62,10 @@ enum Command {
     /// errors against the per-point exact SH coefficients; writes table.md and
     /// false-colour error images into a directory and prints the table (Markdown).
     LightsDemo(LightsDemoArgs),
+    /// Many triangular lights (SHG): per-point exact SH coefficients vs grids of
+    /// coefficients and gradients interpolated trilinearly and by cubic Hermite;
+    /// writes table.md and error images into --out.
+    PolygonLightsDemo(LightsDemoArgs),
     /// Isotropic spherical decomposition: condition numbers of M against L (ISD Fig. 13)
     /// as CSV and PNG, and ISD filtering timed against SH rotation; writes into a
     /// directory and prints the tables (Markdown).
@@ -335,6 +339,7 @@ fn main() -> ExitCode {
         Command::LightsDemo(a) => return lights_demo(&a),
         Command::IsdReport(a) => return isd_report(&a),
         Command::BenchError(a) => bench_error(&a),
+        Command::PolygonLightsDemo(a) => return polygon_lights_demo(&a),
     };
     match result {
         Ok(v) => {
@@ -350,6 +355,12 @@ fn main() -> ExitCode {
 
 fn isd_report(a: &LightsDemoArgs) -> ExitCode {
     print_table(psh::io::isd_report::write_isd_report(&a.out).map(|r| r.markdown_table()))
+}
+
+fn polygon_lights_demo(a: &LightsDemoArgs) -> ExitCode {
+    print_table(
+        psh::io::polygon_lights_demo::write_polygon_lights_demo(&a.out).map(|r| r.markdown_table()),
+    )
 }
 
 fn lights_demo(a: &LightsDemoArgs) -> ExitCode {

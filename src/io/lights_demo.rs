@@ -99,9 +99,13 @@ fn row(
 }
 
 /// Relative error per floor point as a false-colour image: `log10` of
-/// `|L - L_exact| / |L_exact|` from `1e-6` (blue) to `1` (red).
-fn error_image(path: &Path, scene: &Scene, per_point: &[f64], exact: &[Vec<f64>]) -> Result<()> {
-    let n = scene.floor_side;
+/// `|L - L_exact| / |L_exact|` from `1e-6` (blue) to `1` (red), for an `n x n` floor.
+pub(crate) fn error_image(
+    path: &Path,
+    n: usize,
+    per_point: &[f64],
+    exact: &[Vec<f64>],
+) -> Result<()> {
     let rgb: Vec<[u8; 3]> = (0..n * n)
         .map(|i| {
             // Row 0 of the image at the largest y.
@@ -167,10 +171,10 @@ pub fn write_lights_demo(out: &Path) -> Result<DemoReport> {
     let mut files = Vec::new();
     for (name, e) in &images {
         let path = out.join(name);
-        error_image(&path, &scene, e, &exact)?;
+        error_image(&path, scene.floor_side, e, &exact)?;
         files.push(path);
     }
-    let report = DemoReport {
+    let mut report = DemoReport {
         lights: scene.lights.len(),
         shading_points: scene.points.len(),
         reference_ms,
@@ -178,9 +182,15 @@ pub fn write_lights_demo(out: &Path) -> Result<DemoReport> {
         equal_time,
         files,
     };
-    let table = out.join("table.md");
-    std::fs::write(&table, report.markdown_table()).map_err(|e| io_error(&table, e))?;
-    let mut report = report;
-    report.files.push(table);
+    report
+        .files
+        .push(write_table(out, &report.markdown_table())?);
     Ok(report)
+}
+
+/// Writes `markdown` to `out/table.md` and returns the path.
+pub(crate) fn write_table(out: &Path, markdown: &str) -> Result<PathBuf> {
+    let table = out.join("table.md");
+    std::fs::write(&table, markdown).map_err(|e| io_error(&table, e))?;
+    Ok(table)
 }

@@ -18,6 +18,7 @@ pub mod lights_demo;
 pub mod npz;
 pub mod plot;
 pub mod png;
+pub mod polygon_lights_demo;
 
 use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};

@@ -8,10 +8,33 @@
 //! neighbouring voxels of any level share their corners and every corner is evaluated
 //! once.
 
-use super::spherical::{LightField, Order, SphericalLights};
+use super::spherical::{LightField, Order};
 use crate::error::{finite, Error, Result};
-use nalgebra::{Matrix3, SymmetricEigen};
+use nalgebra::{DMatrix, Matrix3, SymmetricEigen};
 use std::collections::{HashMap, HashSet};
+use std::sync::OnceLock;
+
+/// Lights whose summed field (SH coefficients with gradients, and Hessians where
+/// derived) a grid can hold: spherical lights (SHH) and polygonal lights (SHG).
+pub trait LightSource {
+    /// The band limit.
+    fn lmax(&self) -> usize;
+    /// The summed light field at `x`.
+    fn field(&self, x: [f64; 3], order: Order) -> Result<LightField>;
+}
+
+/// How [`LightGrid::interpolate_with`] combines the 8 corners of a shading voxel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Interpolation {
+    /// Trilinear in the corner values (gradients unused): error `O(h^2)`.
+    Trilinear,
+    /// [`hermite_weights`]: tensor cubic Hermite with the mixed derivatives taken as
+    /// zero; exact for affine fields, error `O(h^2)` in general.
+    Hermite,
+    /// [`serendipity_weights`]: the cubic Hermite serendipity interpolant, exact for
+    /// cubic polynomials, error `O(h^4)`.
+    Serendipity,
+}
 
 /// Largest supported finest level (`2^12` cells per axis).
 pub const MAX_LEVEL: u32 = 12;
@@ -216,8 +239,8 @@ pub enum Refinement {
 
 impl LightGrid {
     /// Builds the grid for `lights` over the shading `points` (SHH Fig. 2).
-    pub fn build(
-        lights: &SphericalLights,
+    pub fn build<S: LightSource>(
+        lights: &S,
         lattice: Lattice,
         points: &[[f64; 3]],
         refinement: Refinement,
@@ -262,9 +285,9 @@ impl LightGrid {
     }
 
     /// Evaluates a grid point once (with Hessians when `hessians`).
-    fn ensure(
+    fn ensure<S: LightSource>(
         &mut self,
-        lights: &SphericalLights,
+        lights: &S,
         p: [u32; 3],
         hessians: bool,
     ) -> Result<&GridPoint> {
@@ -293,9 +316,9 @@ impl LightGrid {
     }
 
     /// The error of a voxel: the mean over its 8 corners of SHH (22) with `dx` its diagonal.
-    fn voxel_error(
+    fn voxel_error<S: LightSource>(
         &mut self,
-        lights: &SphericalLights,
+        lights: &S,
         level: u32,
         v: [u32; 3],
         metric: Metric,
@@ -343,14 +366,30 @@ impl LightGrid {
     /// The coefficients at `x` interpolated from the 8 corners of its shading voxel with
     /// [`hermite_weights`] (values and gradients; mixed derivatives taken as zero).
     pub fn interpolate(&self, x: [f64; 3]) -> Result<Vec<f64>> {
+        self.interpolate_with(x, Interpolation::Hermite)
+    }
+
+    /// The coefficients at `x` interpolated from the 8 corners of its shading voxel.
+    pub fn interpolate_with(&self, x: [f64; 3], scheme: Interpolation) -> Result<Vec<f64>> {
         let (level, v) = self.leaf_of(x)?;
         let cell = self.lattice.cell(level);
         let origin = self.lattice.point(self.lattice.corner(level, v, 0));
         let t: [f64; 3] = std::array::from_fn(|i| ((x[i] - origin[i]) / cell[i]).clamp(0.0, 1.0));
         let mut out = vec![0.0; crate::sh::num_coeffs(self.lmax)];
+        let serendipity =
+            (scheme == Interpolation::Serendipity).then(|| serendipity_weights(t, cell));
         for c in 0..8 {
             let p = &self.points[&self.lattice.corner(level, v, c)];
-            let (wv, wg) = hermite_weights(t, c, cell);
+            let (wv, wg) = match (scheme, &serendipity) {
+                (Interpolation::Trilinear, _) => {
+                    let w = (0..3)
+                        .map(|i| if (c >> i) & 1 == 0 { 1.0 - t[i] } else { t[i] })
+                        .product();
+                    (w, [0.0; 3])
+                }
+                (_, Some(w)) => w[c],
+                _ => hermite_weights(t, c, cell),
+            };
             for (k, o) in out.iter_mut().enumerate() {
                 let g = p.gradients[k];
                 *o += wv * p.coefficients[k] + wg[0] * g[0] + wg[1] * g[1] + wg[2] * g[2];
@@ -358,6 +397,79 @@ impl LightGrid {
         }
         Ok(out)
     }
+}
+
+/// The 32 monomials `t^a` spanning the cubic serendipity space of the cube (superlinear
+/// degree at most 3, Arnold & Awanou 2011): all of degree <= 3, `x^3 y` and the like,
+/// `x^2 y z` and the like, `x^3 y z` and the like.
+fn serendipity_exponents() -> Vec<[i32; 3]> {
+    let mut e = Vec::new();
+    for a in 0..=3 {
+        for b in 0..=3 {
+            for c in 0..=3 {
+                let superlinear: i32 = [a, b, c].iter().filter(|&&k| k >= 2).sum();
+                if superlinear <= 3 {
+                    e.push([a, b, c]);
+                }
+            }
+        }
+    }
+    e
+}
+
+/// `(t^a, d/dt_i t^a)` for `i = 0, 1, 2`.
+fn monomial(a: [i32; 3], t: [f64; 3]) -> (f64, [f64; 3]) {
+    let p = |i: usize, k: i32| if k < 0 { 0.0 } else { t[i].powi(k) };
+    let v = p(0, a[0]) * p(1, a[1]) * p(2, a[2]);
+    let d = [
+        a[0] as f64 * p(0, a[0] - 1) * p(1, a[1]) * p(2, a[2]),
+        a[1] as f64 * p(0, a[0]) * p(1, a[1] - 1) * p(2, a[2]),
+        a[2] as f64 * p(0, a[0]) * p(1, a[1]) * p(2, a[2] - 1),
+    ];
+    (v, d)
+}
+
+/// The exponents and the inverse of the 32 x 32 matrix of corner values and gradients
+/// of the monomials on the unit cube (computed once).
+fn serendipity_basis() -> &'static (Vec<[i32; 3]>, DMatrix<f64>) {
+    static BASIS: OnceLock<(Vec<[i32; 3]>, DMatrix<f64>)> = OnceLock::new();
+    BASIS.get_or_init(|| {
+        let e = serendipity_exponents();
+        // Rows: functionals (corner c: value, d/dx, d/dy, d/dz); columns: monomials.
+        let m = DMatrix::from_fn(32, e.len(), |r, k| {
+            let c = r / 4;
+            let corner = std::array::from_fn(|i| ((c >> i) & 1) as f64);
+            let (v, d) = monomial(e[k], corner);
+            if r % 4 == 0 {
+                v
+            } else {
+                d[r % 4 - 1]
+            }
+        });
+        let inv = m
+            .try_inverse()
+            .expect("the cubic Hermite serendipity element is unisolvent");
+        (e, inv)
+    })
+}
+
+/// Weights of the 8 corners (bits x, y, z) of a voxel with edge lengths `cell` at local
+/// coordinates `t` in `[0, 1]^3`, for their values and gradients: the cubic Hermite
+/// serendipity interpolant (the 32-dimensional space of [`serendipity_exponents`],
+/// fixed by the corner values and gradients). It reproduces every cubic polynomial, so
+/// the interpolation error of a smooth field is `O(h^4)`; along each edge it is the 1D
+/// cubic Hermite interpolant (`proofs/polygon-lights.md`, Sec. 5).
+pub fn serendipity_weights(t: [f64; 3], cell: [f64; 3]) -> [(f64, [f64; 3]); 8] {
+    let (e, inv) = serendipity_basis();
+    let mono: Vec<f64> = e.iter().map(|&a| monomial(a, t).0).collect();
+    std::array::from_fn(|c| {
+        let w = |r: usize| {
+            (0..mono.len())
+                .map(|k| inv[(k, 4 * c + r)] * mono[k])
+                .sum::<f64>()
+        };
+        (w(0), std::array::from_fn(|i| w(i + 1) * cell[i]))
+    })
 }
 
 /// Weights of corner `c` (bits x, y, z) of a voxel with edge lengths `cell` at local
@@ -416,7 +528,7 @@ mod tests {
     /// errors. At the grid points themselves the interpolation returns the exact values.
     #[test]
     fn grid_errors_and_exact_corners() {
-        use crate::lights::spherical::SphericalLight;
+        use crate::lights::spherical::{SphericalLight, SphericalLights};
         let lat = Lattice::new([0.0; 3], [1.0; 3], 2).unwrap();
         let pts = [[0.1, 0.1, 0.1], [0.6, 0.3, 0.2]];
         let inside = SphericalLights::new(
@@ -441,6 +553,35 @@ mod tests {
         let corner = [0.0, 0.0, 0.0];
         let exact = lights.field(corner, Order::Values).unwrap().coefficients;
         assert_eq!(g.interpolate(corner).unwrap(), exact);
+    }
+
+    /// The serendipity space has 32 monomials; its weights reproduce a cubic and the
+    /// corner data at the corners.
+    #[test]
+    fn serendipity_reproduces_cubics() {
+        assert_eq!(serendipity_exponents().len(), 32);
+        let cell = [0.5, 2.0, 1.5];
+        let f = |x: [f64; 3]| {
+            0.3 + x[0] - x[1] * x[2] + x[0] * x[1] * x[2] + 0.5 * x[0].powi(3) - x[1] * x[1] * x[0]
+        };
+        let g = |x: [f64; 3]| {
+            [
+                1.0 + x[1] * x[2] + 1.5 * x[0] * x[0] - x[1] * x[1],
+                -x[2] + x[0] * x[2] - 2.0 * x[1] * x[0],
+                -x[1] + x[0] * x[1],
+            ]
+        };
+        for t in [[0.2, 0.7, 0.4], [0.0, 0.0, 0.0], [1.0, 0.5, 0.9]] {
+            let x: [f64; 3] = std::array::from_fn(|i| t[i] * cell[i]);
+            let w = serendipity_weights(t, cell);
+            let mut s = 0.0;
+            for (c, (wv, wg)) in w.iter().enumerate() {
+                let xc: [f64; 3] = std::array::from_fn(|i| ((c >> i) & 1) as f64 * cell[i]);
+                let gc = g(xc);
+                s += wv * f(xc) + wg[0] * gc[0] + wg[1] * gc[1] + wg[2] * gc[2];
+            }
+            assert!((s - f(x)).abs() < 1e-12, "{t:?}: {s} vs {}", f(x));
+        }
     }
 
     #[test]

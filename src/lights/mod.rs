@@ -6,5 +6,6 @@
 //! - [`scene`]: a procedural many-light scene for the demo and the checks.
 
 pub mod grid;
+pub mod polygon;
 pub mod scene;
 pub mod spherical;

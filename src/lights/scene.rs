@@ -6,9 +6,9 @@
 //! and [`LightGrid::build`] reports such a point as an error), so the grid box, a thin
 //! slab around the floor, stays below the lowest near light.
 
-use super::grid::LightGrid;
+use super::grid::{Interpolation, LightGrid, LightSource};
 
-use super::spherical::{Order, SphericalLight, SphericalLights};
+use super::spherical::{Order, SphericalLight};
 use crate::error::Result;
 use crate::verify::pseudo_random;
 
@@ -28,14 +28,7 @@ pub struct Scene {
 /// and `far` lights of radius 1-3 at distance 15-40, from a fixed seed; the grid box is
 /// `[-1, 1]^2 x [-0.05, 0.05]`.
 pub fn demo_scene(floor_side: usize, near: usize, far: usize, seed: u64) -> Result<Scene> {
-    let mut points = Vec::with_capacity(floor_side * floor_side);
-    for j in 0..floor_side {
-        for i in 0..floor_side {
-            let u = -1.0 + 2.0 * (i as f64 + 0.5) / floor_side as f64;
-            let v = -1.0 + 2.0 * (j as f64 + 0.5) / floor_side as f64;
-            points.push([u, v, 0.0]);
-        }
-    }
+    let points = floor_points(floor_side);
     let r = pseudo_random(3 * (near + far), seed);
     let mut k = 0;
     let mut next = || {
@@ -74,6 +67,13 @@ pub fn demo_scene(floor_side: usize, near: usize, far: usize, seed: u64) -> Resu
     })
 }
 
+/// An `n x n` grid of shading points on the floor `z = 0`, `[-1, 1]^2`, row by row (cell
+/// centers).
+pub fn floor_points(n: usize) -> Vec<[f64; 3]> {
+    let c = |i: usize| -1.0 + 2.0 * (i as f64 + 0.5) / n as f64;
+    (0..n * n).map(|k| [c(k % n), c(k / n), 0.0]).collect()
+}
+
 /// Interpolation errors of a grid against the per-point exact coefficients `exact` (one
 /// row per shading point): `(mean squared error per coefficient, mean |L - L_exact|_2,
 /// per-point |L - L_exact|_2)`.
@@ -82,11 +82,21 @@ pub fn grid_errors(
     points: &[[f64; 3]],
     exact: &[Vec<f64>],
 ) -> Result<(f64, f64, Vec<f64>)> {
+    grid_errors_with(grid, points, exact, Interpolation::Hermite)
+}
+
+/// [`grid_errors`] with the interpolation `scheme`.
+pub fn grid_errors_with(
+    grid: &LightGrid,
+    points: &[[f64; 3]],
+    exact: &[Vec<f64>],
+    scheme: Interpolation,
+) -> Result<(f64, f64, Vec<f64>)> {
     let mut sq = 0.0;
     let mut count = 0usize;
     let mut per_point = Vec::with_capacity(points.len());
     for (x, e) in points.iter().zip(exact) {
-        let got = grid.interpolate(*x)?;
+        let got = grid.interpolate_with(*x, scheme)?;
         let d2: f64 = got.iter().zip(e).map(|(a, b)| (a - b) * (a - b)).sum();
         sq += d2;
         count += e.len();
@@ -96,8 +106,8 @@ pub fn grid_errors(
     Ok((sq / count.max(1) as f64, mean, per_point))
 }
 
-/// The exact coefficients at every shading point (SHH (2), all lights).
-pub fn exact_coefficients(lights: &SphericalLights, points: &[[f64; 3]]) -> Result<Vec<Vec<f64>>> {
+/// The exact coefficients at every shading point (SHH (2) or SHG (4), all lights).
+pub fn exact_coefficients(lights: &impl LightSource, points: &[[f64; 3]]) -> Result<Vec<Vec<f64>>> {
     points
         .iter()
         .map(|&x| lights.field(x, Order::Values).map(|f| f.coefficients))

@@ -286,6 +286,16 @@ pub fn cap_of(light: &SphericalLight, x: [f64; 3], zonal: &mut [f64]) -> Result<
     Ok(d.map(|c| c / dist))
 }
 
+impl super::grid::LightSource for SphericalLights {
+    fn lmax(&self) -> usize {
+        SphericalLights::lmax(self)
+    }
+
+    fn field(&self, x: [f64; 3], order: Order) -> Result<LightField> {
+        SphericalLights::field(self, x, order)
+    }
+}
+
 /// `P_l(t)` and `P_l'(t)`, `l < p.len()`, by Bonnet's recurrence and
 /// `P_{l+1}' = P_{l-1}' + (2l+1) P_l` (DLMF 14.10.3, 14.10.4 at `m = 0`); `|t| <= 1`.
 pub fn legendre_and_derivative(t: f64, p: &mut [f64], dp: &mut [f64]) {

@@ -14,6 +14,7 @@ mod matrix;
 mod optics;
 mod oracle;
 mod polarized;
+pub mod polygon;
 mod pprt;
 pub use pprt::reference_discrepancy as pprt_reference_discrepancy;
 mod sh;
@@ -73,6 +74,7 @@ pub fn checks() -> Vec<Check> {
     all.extend(solid::checks());
     all.extend(lights::checks());
     all.extend(isd::checks());
+    all.extend(polygon::checks());
     all
 }
 

@@ -1,0 +1,132 @@
+//! `psh polygon-lights-demo`: many triangular lights over a floor
+//! ([`crate::lights::polygon::scene`]); per-vertex exact coefficients (SHG (4)-(5)) against
+//! uniform grids of coefficients and gradients (SHG (6)) interpolated trilinearly, by the
+//! zero-cross-derivative Hermite and by the cubic Hermite serendipity interpolant:
+//! errors and times (a table like SHG Sec. 7), with false-colour error images.
+
+use super::io_error;
+use super::lights_demo::{error_image, write_table};
+use crate::error::Result;
+use crate::lights::grid::{Interpolation, Lattice, LightGrid, Refinement};
+use crate::lights::polygon::scene::demo_scene;
+use crate::lights::polygon::PolygonalLights;
+use crate::lights::scene::{exact_coefficients, grid_errors_with};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// SH band limit of the demo (`l <= 8`, as in SHG Sec. 3.1).
+pub const DEMO_LMAX: usize = 8;
+
+/// One row of the table.
+#[derive(Clone, Debug)]
+pub struct DemoRow {
+    pub interpolation: Interpolation,
+    /// Finest level `N` (`2^N` cells per axis).
+    pub level: u32,
+    /// Evaluated grid points.
+    pub points: usize,
+    /// Grid construction time (ms), coefficients and gradients at every grid point.
+    pub build_ms: f64,
+    /// Interpolation time at all shading points (ms).
+    pub interpolate_ms: f64,
+    /// Mean over shading points of `|L - L_exact|_2 / |L_exact|_2`.
+    pub mean_relative: f64,
+    /// Largest such relative error.
+    pub max_relative: f64,
+}
+
+/// The demo's results.
+#[derive(Clone, Debug)]
+pub struct DemoReport {
+    pub lights: usize,
+    pub shading_points: usize,
+    /// Time of the per-point exact coefficients (ms).
+    pub reference_ms: f64,
+    pub rows: Vec<DemoRow>,
+    pub files: Vec<PathBuf>,
+}
+
+impl DemoReport {
+    /// The table as Markdown.
+    pub fn markdown_table(&self) -> String {
+        let mut s = format!(
+            "{} polygonal lights (clipped to the floor's horizon), {} shading points, l <= {DEMO_LMAX}; per-point exact coefficients {:.1} ms\n\n",
+            self.lights, self.shading_points, self.reference_ms
+        );
+        s.push_str("| interpolation | N | grid points | build (ms) | interpolate (ms) | mean rel. error | max rel. error |\n");
+        s.push_str("|---|---|---|---|---|---|---|\n");
+        for r in &self.rows {
+            s.push_str(&format!(
+                "| {:?} | {} | {} | {:.1} | {:.1} | {:.3e} | {:.3e} |\n",
+                r.interpolation,
+                r.level,
+                r.points,
+                r.build_ms,
+                r.interpolate_ms,
+                r.mean_relative,
+                r.max_relative
+            ));
+        }
+        s
+    }
+}
+
+/// Runs the demo with grids of levels `levels` and writes `table.md` and
+/// `error_<scheme>_N<level>.png` (finest level) into `out` (created if missing).
+pub fn write_polygon_lights_demo(out: &Path) -> Result<DemoReport> {
+    std::fs::create_dir_all(out).map_err(|e| io_error(out, e))?;
+    let scene = demo_scene(64, 48, 7)?;
+    let lights =
+        PolygonalLights::new(scene.lights.clone(), DEMO_LMAX)?.with_horizon(scene.normal)?;
+    let t0 = Instant::now();
+    let exact = exact_coefficients(&lights, &scene.points)?;
+    let reference_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let norms: Vec<f64> = exact
+        .iter()
+        .map(|e| e.iter().map(|x| x * x).sum::<f64>().sqrt())
+        .collect();
+    let levels = 2..=5u32;
+    let mut rows = Vec::new();
+    let mut files = Vec::new();
+    for level in levels.clone() {
+        let lattice = Lattice::new(scene.bounds.0, scene.bounds.1, level)?;
+        let t0 = Instant::now();
+        let grid = LightGrid::build(&lights, lattice, &scene.points, Refinement::Uniform)?;
+        let build_ms = t0.elapsed().as_secs_f64() * 1e3;
+        for scheme in [
+            Interpolation::Trilinear,
+            Interpolation::Hermite,
+            Interpolation::Serendipity,
+        ] {
+            let t0 = Instant::now();
+            let (_, _, per_point) = grid_errors_with(&grid, &scene.points, &exact, scheme)?;
+            let interpolate_ms = t0.elapsed().as_secs_f64() * 1e3;
+            let rel: Vec<f64> = per_point.iter().zip(&norms).map(|(e, n)| e / n).collect();
+            rows.push(DemoRow {
+                interpolation: scheme,
+                level,
+                points: grid.num_points(),
+                build_ms,
+                interpolate_ms,
+                mean_relative: rel.iter().sum::<f64>() / rel.len() as f64,
+                max_relative: rel.iter().fold(0.0, |a, b| a.max(*b)),
+            });
+            if Some(level) == levels.clone().last() {
+                let path = out.join(format!("error_{scheme:?}_N{level}.png").to_lowercase());
+                error_image(&path, scene.floor_side, &per_point, &exact)?;
+                files.push(path);
+            }
+        }
+    }
+    let mut report = DemoReport {
+        lights: scene.lights.len(),
+        shading_points: scene.points.len(),
+        reference_ms,
+        rows,
+        files,
+    };
+    report
+        .files
+        .push(write_table(out, &report.markdown_table())?);
+    Ok(report)
+}

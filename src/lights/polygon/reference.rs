@@ -1,0 +1,234 @@
+//! The reference for the checks: SH coefficients (and gradients) of a polygonal light by
+//! adaptive quadrature over the planar light itself, independent of the spherical
+//! polygon and of the boundary recurrences.
+//!
+//! Seen from `x`, the area element `dA` at `y` subtends `dw = |N . d| / |d|^3 dA`,
+//! `d = y - x`, so `L_lm(x) = E int_A Y_lm(d/|d|) |N . d| / |d|^3 dA` (SHG (4)). The
+//! polygon (clipped to the horizon when asked) is fan-triangulated; each triangle is
+//! integrated with a tensor Gauss-Legendre rule on the collapsed square and split into
+//! four at its edge midpoints, largest error first, until the error estimates (the
+//! change from a triangle's rule to the sum over its four parts) sum below the tolerance. The gradient differentiates the integrand in `x`
+//! over the fixed domain `A` (the parameterization of Annen et al., SHG Sec. 4.2
+//! "Discussion"), so it checks the Reynolds boundary form independently.
+
+use super::boundary::{cross, dot, norm};
+use super::PolygonalLight;
+use crate::error::{Error, Result};
+use crate::sh::grid::GaussLegendre;
+use crate::sh::harmonics::ShEvaluator;
+use crate::sh::num_coeffs;
+use crate::sh::solid::SolidHarmonics;
+
+/// Gauss-Legendre points per direction of the triangle rule.
+const NODES: usize = 12;
+/// Relative change between the rules on a piece taken as rounding (about `50 eps`).
+const ROUNDING: f64 = 1e-14;
+/// Deepest subdivision.
+const MAX_DEPTH: u32 = 14;
+
+type Triangle = [[f64; 3]; 3];
+
+/// Adds `sum_k w_k g(d_k)` over nodes `d_k` (relative to `x`) with weights `w_k`.
+type Integrand<'a> = dyn Fn(&[[f64; 3]], &[f64], &mut [f64]) -> Result<()> + 'a;
+
+/// Nodes `d` (relative to `x`) and weights (with the Jacobian) of the rule on `t`.
+fn rule(gl: &GaussLegendre, t: &Triangle) -> (Vec<[f64; 3]>, Vec<f64>) {
+    let [p0, p1, p2] = *t;
+    let e1: [f64; 3] = std::array::from_fn(|i| p1[i] - p0[i]);
+    let e2: [f64; 3] = std::array::from_fn(|i| p2[i] - p1[i]);
+    let area2 = norm(cross(e1, e2));
+    let mut nodes = Vec::with_capacity(gl.len() * gl.len());
+    let mut weights = Vec::with_capacity(gl.len() * gl.len());
+    for (xu, wu) in gl.cos_theta.iter().zip(&gl.weights) {
+        let u = 0.5 * (1.0 + xu);
+        for (xv, wv) in gl.cos_theta.iter().zip(&gl.weights) {
+            let v = 0.5 * (1.0 + xv);
+            nodes.push(std::array::from_fn(|i| p0[i] + u * e1[i] + u * v * e2[i]));
+            weights.push(0.25 * wu * wv * u * area2);
+        }
+    }
+    (nodes, weights)
+}
+
+/// One triangle of the adaptive partition: its estimate (the sum over its four halves)
+/// and the error estimate (the change from the whole-triangle rule).
+struct Piece {
+    triangle: Triangle,
+    value: Vec<f64>,
+    error: f64,
+    depth: u32,
+}
+
+/// Globally adaptive integration of `f` (adds `sum_k w_k g(d_k)` to its output of length
+/// `len`) over the triangles: the piece of largest error estimate is split into four
+/// until the estimates sum to at most `tol` times the largest component of the first
+/// estimate (a relative tolerance).
+fn integrate(triangles: &[Triangle], len: usize, tol: f64, f: &Integrand) -> Result<Vec<f64>> {
+    let gl = GaussLegendre::new(NODES)?;
+    let estimate = |t: &Triangle| -> Result<Vec<f64>> {
+        let (nodes, weights) = rule(&gl, t);
+        let mut out = vec![0.0; len];
+        f(&nodes, &weights, &mut out)?;
+        Ok(out)
+    };
+    let piece = |t: Triangle, whole: &[f64], depth: u32| -> Result<Piece> {
+        let value = quarters(&t)
+            .iter()
+            .map(estimate)
+            .try_fold(vec![0.0; len], |mut acc, p| {
+                p.map(|p| {
+                    acc.iter_mut().zip(&p).for_each(|(a, b)| *a += b);
+                    acc
+                })
+            })?;
+        let change = value
+            .iter()
+            .zip(whole)
+            .fold(0.0f64, |a, (v, w)| a.max((v - w).abs()));
+        // A change at the rounding level of the piece is no evidence of an error.
+        let size = value.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let error = if change <= ROUNDING * size {
+            0.0
+        } else {
+            change
+        };
+        Ok(Piece {
+            triangle: t,
+            value,
+            error,
+            depth,
+        })
+    };
+    let mut pieces = Vec::new();
+    for t in triangles {
+        pieces.push(piece(*t, &estimate(t)?, 0)?);
+    }
+    let scale = pieces
+        .iter()
+        .flat_map(|p| &p.value)
+        .fold(0.0f64, |a, v| a.max(v.abs()));
+    let tol = tol * scale;
+    loop {
+        let total: f64 = pieces.iter().map(|p| p.error).sum();
+        if total <= tol {
+            break;
+        }
+        let worst = (0..pieces.len())
+            .max_by(|&a, &b| pieces[a].error.total_cmp(&pieces[b].error))
+            .unwrap_or(0);
+        let p = pieces.swap_remove(worst);
+        if p.depth >= MAX_DEPTH {
+            return Err(Error::InvalidArgument {
+                name: "tolerance",
+                value: tol.to_string(),
+                reason: format!("reference quadrature not converged (error estimate {total:e})"),
+            });
+        }
+        for q in quarters(&p.triangle) {
+            let whole = estimate(&q)?;
+            pieces.push(piece(q, &whole, p.depth + 1)?);
+        }
+    }
+    Ok(pieces.iter().fold(vec![0.0; len], |mut acc, p| {
+        acc.iter_mut().zip(&p.value).for_each(|(a, b)| *a += b);
+        acc
+    }))
+}
+
+/// The four halves-of-edges subtriangles of `t`.
+fn quarters(t: &Triangle) -> [Triangle; 4] {
+    let m: [[f64; 3]; 3] = std::array::from_fn(|k| {
+        let (a, b) = (t[k], t[(k + 1) % 3]);
+        std::array::from_fn(|i| 0.5 * (a[i] + b[i]))
+    });
+    [
+        [t[0], m[0], m[2]],
+        [m[0], t[1], m[1]],
+        [m[2], m[1], t[2]],
+        [m[0], m[1], m[2]],
+    ]
+}
+
+/// The fan triangles of `light` seen from `x` (relative positions), clipped to the
+/// horizon when given.
+fn triangles(
+    light: &PolygonalLight,
+    x: [f64; 3],
+    horizon: Option<[f64; 3]>,
+) -> Result<Vec<Triangle>> {
+    let p = light.seen_from(x, horizon)?;
+    Ok((1..p.len().saturating_sub(1))
+        .map(|i| [p[0].0, p[i].0, p[i + 1].0])
+        .collect())
+}
+
+/// `L_lm(x)`, `l <= lmax`, by adaptive quadrature to the relative tolerance `tol`.
+pub fn coefficients(
+    light: &PolygonalLight,
+    x: [f64; 3],
+    horizon: Option<[f64; 3]>,
+    lmax: usize,
+    tol: f64,
+) -> Result<Vec<f64>> {
+    let ev = ShEvaluator::new(lmax)?;
+    let n = num_coeffs(lmax);
+    let normal = light.normal();
+    let e = light.radiance();
+    let f = |nodes: &[[f64; 3]], weights: &[f64], out: &mut [f64]| -> Result<()> {
+        let dirs: Vec<[f64; 3]> = nodes.iter().map(|d| d.map(|c| c / norm(*d))).collect();
+        let mut y = vec![0.0; nodes.len() * n];
+        ev.real_batch(&dirs, &mut y)?;
+        for (k, (d, w)) in nodes.iter().zip(weights).enumerate() {
+            let r = norm(*d);
+            let s = e * w * dot(normal, *d).abs() / (r * r * r);
+            for (o, yv) in out.iter_mut().zip(&y[k * n..(k + 1) * n]) {
+                *o += s * yv;
+            }
+        }
+        Ok(())
+    };
+    integrate(&triangles(light, x, horizon)?, n, tol, &f)
+}
+
+/// `grad_x L_lm(x)`, `l <= lmax` (no horizon: the domain must not depend on `x`), by
+/// adaptive quadrature of `-grad_d [Y_lm(d/|d|) |N . d| / |d|^3]` to the relative
+/// tolerance `tol`.
+pub fn gradients(
+    light: &PolygonalLight,
+    x: [f64; 3],
+    lmax: usize,
+    tol: f64,
+) -> Result<Vec<[f64; 3]>> {
+    let sh = SolidHarmonics::new(lmax)?;
+    let n = num_coeffs(lmax);
+    let normal = light.normal();
+    let e = light.radiance();
+    let f = |nodes: &[[f64; 3]], weights: &[f64], out: &mut [f64]| -> Result<()> {
+        let m = nodes.len();
+        let (mut ys, mut gys, mut hys) = (
+            vec![0.0; m * n],
+            vec![[0.0; 3]; m * n],
+            vec![[0.0; 6]; m * n],
+        );
+        let dirs: Vec<[f64; 3]> = nodes.iter().map(|d| d.map(|c| c / norm(*d))).collect();
+        sh.eval_batch(&dirs, &mut ys, &mut gys, &mut hys)?;
+        for (p, (d, w)) in nodes.iter().zip(weights).enumerate() {
+            let r = norm(*d);
+            let (y, gy) = (&ys[p * n..(p + 1) * n], &gys[p * n..(p + 1) * n]);
+            let s = dot(normal, *d);
+            let q = s.abs() / (r * r * r);
+            // grad_d q = sign(s) N / r^3 - 3 |s| d / r^5; grad_d Y(d/r) = grad Y / r.
+            let gq: [f64; 3] = std::array::from_fn(|i| {
+                s.signum() * normal[i] / (r * r * r) - 3.0 * q * d[i] / (r * r)
+            });
+            for k in 0..n {
+                for i in 0..3 {
+                    out[3 * k + i] -= e * w * (gy[k][i] / r * q + y[k] * gq[i]);
+                }
+            }
+        }
+        Ok(())
+    };
+    let flat = integrate(&triangles(light, x, None)?, 3 * n, tol, &f)?;
+    Ok(flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
+}
