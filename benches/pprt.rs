@@ -4,7 +4,7 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use psh::pprt::render::{background, primary_hits, render_frame};
 use psh::pprt::scene_file::{data_dir, load_scene};
-use psh::pprt::transfer::{high_orders, precompute, TransferSettings};
+use psh::pprt::transfer::{high_order_fields, precompute, TransferSettings};
 
 fn pprt(c: &mut Criterion) {
     if !data_dir().join("polarsh/buddha.obj").exists() {
@@ -30,11 +30,7 @@ fn pprt(c: &mut Criterion) {
         b.iter(|| precompute(&scene, settings).unwrap())
     });
     let transfer = precompute(&scene, settings).unwrap();
-    let high: Vec<_> = high_orders(&scene, settings)
-        .unwrap()
-        .into_iter()
-        .map(|h| h.map(|x| x.0))
-        .collect();
+    let high = high_order_fields(&scene, settings).unwrap();
     let hits = primary_hits(&scene);
     let bg = background(&scene, &hits).unwrap();
     // One 512 x 512 frame after precomputation (vertex evaluation with the high orders,

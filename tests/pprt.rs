@@ -291,7 +291,7 @@ fn rotating_everything_together_leaves_the_image_unchanged() {
 #[test]
 fn camera_roll_turns_s1_s2_as_psh_14() {
     use psh::pprt::render::vertex_stokes;
-    use psh::pprt::transfer::high_orders;
+    use psh::pprt::transfer::high_order_fields;
     let mut scene = builtin_scene(6, 16, 16).unwrap();
     let settings = TransferSettings {
         l_low: 4,
@@ -300,11 +300,7 @@ fn camera_roll_turns_s1_s2_as_psh_14() {
         shadows: true,
     };
     let transfer = precompute(&scene, settings).unwrap();
-    let high: Vec<_> = high_orders(&scene, settings)
-        .unwrap()
-        .into_iter()
-        .map(|h| h.map(|x| x.0))
-        .collect();
+    let high = high_order_fields(&scene, settings).unwrap();
     let cam = scene.camera().clone();
     let before = vertex_stokes(&scene, &transfer, &high).unwrap();
     let scale = before

@@ -10,7 +10,7 @@
 use super::reference::{Fidelity, Reference, ReferenceSettings};
 use super::render::{background, primary_hits, render_frame, StokesImage};
 use super::scene::Scene;
-use super::transfer::{high_orders, precompute, TransferSettings};
+use super::transfer::{high_order_fields, precompute, TransferSettings};
 use crate::error::{Error, Result};
 use crate::io::plot::{LinePlot, Series};
 use serde::Serialize;
@@ -148,10 +148,7 @@ pub fn bench_error(
             let settings = pprt_settings(setting, l, options.rays);
             let t = Instant::now();
             let transfer = precompute(scene, settings)?;
-            let high: Vec<_> = high_orders(scene, settings)?
-                .into_iter()
-                .map(|h| h.map(|x| x.0))
-                .collect();
+            let high = high_order_fields(scene, settings)?;
             let precompute_s = t.elapsed().as_secs_f64();
             let t = Instant::now();
             let image = render_frame(scene, &transfer, &high, &hits, &bg)?;

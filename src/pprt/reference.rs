@@ -394,14 +394,7 @@ impl<'a> Reference<'a> {
                 },
             )
             .collect::<Result<_>>()?;
-        Ok(StokesImage {
-            width: cam.width,
-            height: cam.height,
-            channels: (0..3)
-                .map(|c| pixels.iter().map(|p| p[c]).collect())
-                .collect(),
-            surface: hits.iter().map(Option::is_some).collect(),
-        })
+        Ok(StokesImage::from_pixels(cam, &pixels, hits))
     }
 }
 

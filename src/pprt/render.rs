@@ -9,7 +9,7 @@
 //! `x` image-right, `y` image-up.
 
 use super::reflected::reflected_radiance;
-use super::scene::{Hit, Scene};
+use super::scene::{Camera, Hit, Scene};
 use super::transfer::VertexTransfer;
 use crate::error::Result;
 use crate::geometry::frame::{Frame, FrameField, PerspectiveFrameField};
@@ -29,6 +29,18 @@ pub struct StokesImage {
 }
 
 impl StokesImage {
+    /// The image of `camera` from per-pixel RGB Stokes components and the primary hits.
+    pub fn from_pixels(camera: &Camera, pixels: &[[[f64; 4]; 3]], hits: &[Option<Hit>]) -> Self {
+        StokesImage {
+            width: camera.width,
+            height: camera.height,
+            channels: (0..3)
+                .map(|c| pixels.iter().map(|p| p[c]).collect())
+                .collect(),
+            surface: hits.iter().map(Option::is_some).collect(),
+        }
+    }
+
     /// The intensity seen through an ideal linear polarizer at `angle` (radians, from
     /// image-right towards image-up), channel `c`: `(s0 + s1 cos 2a + s2 sin 2a) / 2`
     /// (PF (8) applied to the Stokes vector). Errors: `c` out of range, `angle` not
@@ -188,12 +200,5 @@ pub fn render_frame(
             None => *bg,
         })
         .collect();
-    Ok(StokesImage {
-        width: cam.width,
-        height: cam.height,
-        channels: (0..3)
-            .map(|c| pixels.iter().map(|p| p[c]).collect())
-            .collect(),
-        surface: hits.iter().map(Option::is_some).collect(),
-    })
+    Ok(StokesImage::from_pixels(cam, &pixels, hits))
 }

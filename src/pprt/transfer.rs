@@ -152,6 +152,17 @@ pub fn precompute_with_progress(
         .collect()
 }
 
+/// [`high_orders`] without the residuals: the convolved environments per material.
+pub fn high_order_fields(
+    scene: &Scene,
+    settings: TransferSettings,
+) -> Result<Vec<Option<PshVector>>> {
+    Ok(high_orders(scene, settings)?
+        .into_iter()
+        .map(|h| h.map(|x| x.0))
+        .collect())
+}
+
 /// The high orders per material ([`super::reflected`]): the environment convolved with
 /// the kernel of the material's reflected pBRDF over the bands `l_low < l <= l_high`
 /// (RGB), and the projection's largest relative residual over the channels; `None` for
