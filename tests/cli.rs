@@ -451,11 +451,12 @@ fn convolve_with_builtin_and_table_kernels() {
     assert_eq!(e.trim().lines().count(), 1, "{e}");
 }
 
-#[test]
-fn lights_demo_writes_table_and_images() {
-    let dir = std::env::temp_dir().join(format!("psh_lights_demo_{}", std::process::id()));
+/// Runs a demo command `psh COMMAND --out DIR` (DIR fresh under the temporary directory)
+/// and checks that it succeeds and writes the table it prints to `table.md`.
+fn demo(command: &str) -> (std::path::PathBuf, String) {
+    let dir = std::env::temp_dir().join(format!("psh_{command}_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let out = psh(&["lights-demo", "--out", dir.to_str().unwrap()]);
+    let out = psh(&[command, "--out", dir.to_str().unwrap()]);
     assert!(
         out.status.success(),
         "{}",
@@ -466,6 +467,30 @@ fn lights_demo_writes_table_and_images() {
         std::fs::read_to_string(dir.join("table.md")).unwrap(),
         table
     );
+    (dir, table)
+}
+
+/// `psh polygon-lights-demo --out DIR` writes the table it prints and the error images;
+/// at the finest level the Hermite interpolants beat trilinear interpolation.
+#[test]
+fn polygon_lights_demo_writes_table_and_images() {
+    let (dir, table) = demo("polygon-lights-demo");
+    let finest: Vec<f64> = table
+        .lines()
+        .filter(|l| l.contains("| 5 |"))
+        .map(|l| l.split('|').nth(6).unwrap().trim().parse().unwrap())
+        .collect();
+    assert_eq!(finest.len(), 3, "{table}");
+    assert!(finest[1] < finest[0] && finest[2] < finest[0], "{finest:?}");
+    for scheme in ["trilinear", "hermite", "serendipity"] {
+        assert!(dir.join(format!("error_{scheme}_n5.png")).exists());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn lights_demo_writes_table_and_images() {
+    let (dir, table) = demo("lights-demo");
     // Four uniform grids and the adaptive one, each with a finite MSE.
     let rows: Vec<&str> = table
         .lines()

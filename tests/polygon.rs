@@ -198,36 +198,3 @@ fn interpolation_orders() {
     }
     assert!(slopes[0].2 > 1.7 && slopes[2].2 > 3.5);
 }
-
-/// `psh polygon-lights-demo --out DIR` writes the table it prints and the error images;
-/// at the finest level the Hermite interpolants beat trilinear interpolation.
-#[test]
-fn demo_writes_table_and_images() {
-    let dir = std::env::temp_dir().join(format!("psh_polygon_demo_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_psh"))
-        .args(["polygon-lights-demo", "--out", dir.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let table = String::from_utf8(out.stdout).unwrap();
-    assert_eq!(
-        std::fs::read_to_string(dir.join("table.md")).unwrap(),
-        table
-    );
-    let finest: Vec<f64> = table
-        .lines()
-        .filter(|l| l.contains("| 5 |"))
-        .map(|l| l.split('|').nth(6).unwrap().trim().parse().unwrap())
-        .collect();
-    assert_eq!(finest.len(), 3, "{table}");
-    assert!(finest[1] < finest[0] && finest[2] < finest[0], "{finest:?}");
-    for scheme in ["trilinear", "hermite", "serendipity"] {
-        assert!(dir.join(format!("error_{scheme}_n5.png")).exists());
-    }
-    let _ = std::fs::remove_dir_all(&dir);
-}
