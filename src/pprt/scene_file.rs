@@ -206,9 +206,15 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
     })?;
     let spec: SceneFile = toml::from_str(&text).map_err(|e| malformed(e.to_string()))?;
     let base = path.parent().unwrap_or(Path::new("."));
-    let resolve = |p: &str| match p.strip_prefix("data:") {
-        Some(rest) => data_dir().join(rest),
-        None => base.join(p),
+    let resolve = |p: &str| -> Result<PathBuf> {
+        match p.strip_prefix("data:") {
+            Some(_) if !data_dir().is_dir() => Err(malformed(format!(
+                "'{p}' needs the shared data directory {}, which is missing (set PSH_DATA_DIR)",
+                data_dir().display()
+            ))),
+            Some(rest) => Ok(data_dir().join(rest)),
+            None => Ok(base.join(p)),
+        }
     };
     let settings = TransferSettings {
         l_low: spec.settings.l_low,
@@ -229,14 +235,14 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
             .map(EnvironmentSource::Sky)
             .map_err(|e| field("environment", e))?,
         EnvironmentSpec::Npz { path: p, up } => {
-            let v = crate::io::npz::read_psh_npz(resolve(p))?;
+            let v = crate::io::npz::read_psh_npz(resolve(p)?)?;
             let v = v
                 .truncated(source_lmax.min(v.lmax()))
                 .map_err(|e| field("environment.path", e))?;
             EnvironmentSource::Coefficients(turn(&v, *up)?)
         }
         EnvironmentSpec::Exr { path: p, up } => {
-            let map = crate::io::exr::read_stokes_map(&resolve(p).to_string_lossy())?;
+            let map = crate::io::exr::read_stokes_map(&resolve(p)?.to_string_lossy())?;
             EnvironmentSource::Coefficients(turn(&map.project(Codomain::Full, source_lmax)?, *up)?)
         }
     };
@@ -269,7 +275,7 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
                 },
             ),
             MaterialSpec::Npz { name, path: p } => {
-                let mats = crate::io::npz::read_isotropic_npz(resolve(p))?;
+                let mats = crate::io::npz::read_isotropic_npz(resolve(p)?)?;
                 let dense = mats
                     .iter()
                     .map(|m| m.to_dense())
@@ -317,7 +323,9 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
                 material,
                 up,
             } => (
-                Mesh::from_obj(resolve(p)).map(|m| m.rotated(&up.rotation())),
+                resolve(p)
+                    .and_then(Mesh::from_obj)
+                    .map(|m| m.rotated(&up.rotation())),
                 material,
             ),
         };
