@@ -46,8 +46,8 @@ pub fn checks() -> Vec<Check> {
         Check {
             id: "polygon.small_light_relative",
             source: "SHG (3)-(18)",
-            description: "the 1e-3 triangle at distance 1, l <= 20: largest relative error of its coefficients and gradients vs quadrature; the edge sums cancel to O(T^2) from O(T) terms and the arc recurrence loses eps/T, so about eps/T^2 (a known limitation)",
-            tolerance: 1e-9,
+            description: "the 1e-3 triangle at distance 1, l <= 20: largest relative error of its coefficients and gradients vs quadrature; the edge sums cancel to O(T^2) from O(T) terms (short arcs by quadrature, not the recurrence, which would lose another eps/T)",
+            tolerance: 1e-10,
             proof: Some("proofs/polygon-lights.md"),
             run: small_light,
         },

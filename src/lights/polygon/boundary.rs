@@ -11,6 +11,9 @@
 //! (SHG (14)-(18)) `U_l = int_0^T P_l(h(t)) / ell(t) dt` with `ell(t)` the distance from
 //! the shading point to the light's edge along `w(t)`.
 
+use crate::sh::grid::GaussLegendre;
+use std::sync::OnceLock;
+
 /// One arc of a spherical polygon.
 #[derive(Clone, Copy, Debug)]
 pub struct Arc {
@@ -47,10 +50,17 @@ pub(crate) fn norm(u: [f64; 3]) -> f64 {
 }
 
 impl Arc {
-    /// The arc from `a` to `b` (unit vectors), or `None` if it has no length or its ends
-    /// are antipodal. `inv_dist` as in the field of the same name.
-    pub fn new(a: [f64; 3], b: [f64; 3], inv_dist: Option<(f64, f64)>) -> Option<Self> {
-        let c = cross(a, b);
+    /// The arc from the direction of `qa` to that of `qb` (positions relative to the
+    /// shading point), or `None` if it has no length or its ends are antipodal.
+    /// `inv_dist` as in the field of the same name. `a x b` is taken as
+    /// `qa x (qb - qa) / (|qa| |qb|)`: the edge `qb - qa` keeps its relative precision for
+    /// a short arc, where the cross product of the two nearly parallel unit vectors would
+    /// lose `eps / T`.
+    pub fn new(qa: [f64; 3], qb: [f64; 3], inv_dist: Option<(f64, f64)>) -> Option<Self> {
+        let (da, db) = (norm(qa), norm(qb));
+        let (a, b) = (qa.map(|x| x / da), qb.map(|x| x / db));
+        let edge = std::array::from_fn(|k| qb[k] - qa[k]);
+        let c = cross(qa, edge).map(|x| x / (da * db));
         let sin = norm(c);
         if sin == 0.0 {
             return None;
@@ -85,7 +95,15 @@ impl Arc {
     /// `c = g1 h(0) + g2 h'(0)`, `W_k = int g P_k'(h)`:
     /// `U_k = (c D_k - W_{k-1} - [g' P_k(h)]_0^T) / (k + 1)`,
     /// `W_{k+1} = W_{k-1} + (2k + 1) U_k` (`proofs/polygon-lights.md`).
+    ///
+    /// Short arcs (`T (lmax + 1) <= SHORT_ARC`) take [`Self::integrals_by_quadrature`]
+    /// instead: the recurrence's end-point differences cancel there, to `eps / T`.
     pub fn integrals(&self, v: [f64; 3], d: &mut [f64], u: Option<&mut [f64]>) {
+        if self.len * d.len() as f64 <= SHORT_ARC {
+            if let Some(rule) = short_arc_rule() {
+                return self.integrals_by_quadrature(rule, v, d, u);
+            }
+        }
         let (h0, h1) = (dot(v, self.a), dot(v, self.b));
         let (dh0, dh1) = (dot(v, self.ta), dot(v, self.tb));
         let vn = dot(v, self.n);
@@ -121,10 +139,71 @@ impl Arc {
     }
 }
 
-/// The signed solid angle of the spherical triangle `(a, b, c)` (unit vectors),
-/// `2 atan2(a . (b x c), 1 + a.b + b.c + c.a)` (Van Oosterom & Strackee 1983);
-/// positive when `a, b, c` turn counter-clockwise seen from outside the sphere.
-pub fn triangle_solid_angle(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
-    let det = dot(a, cross(b, c));
+/// Arcs with `T (lmax + 1)` at most this are integrated by [`short_arc_rule`]: the
+/// integrands are trigonometric polynomials of degree `<= lmax` in `t`, whose
+/// `n`-point Gauss-Legendre error on `[0, T]` is bounded by about
+/// `(lmax T / 2)^(2n) / (2n)!`, below `1e-35` for `n = 16` here.
+const SHORT_ARC: f64 = 2.0;
+
+/// The 16-point Gauss-Legendre rule (built once).
+fn short_arc_rule() -> Option<&'static GaussLegendre> {
+    static RULE: OnceLock<Option<GaussLegendre>> = OnceLock::new();
+    RULE.get_or_init(|| GaussLegendre::new(16).ok()).as_ref()
+}
+
+impl Arc {
+    /// [`Self::integrals`] by the Gauss-Legendre `rule` on `[0, T]`: at each node
+    /// `P_k(h)` by Bonnet's recurrence and `P_k'(h)` by `P_{k+1}' = P_{k-1}' + (2k+1) P_k`,
+    /// and `g = 1/ell` as in [`Self::integrals`].
+    fn integrals_by_quadrature(
+        &self,
+        rule: &GaussLegendre,
+        v: [f64; 3],
+        d: &mut [f64],
+        u: Option<&mut [f64]>,
+    ) {
+        let (h0, dh0) = (dot(v, self.a), dot(v, self.ta));
+        let g = self
+            .inv_dist
+            .map(|(i0, i1)| (i0, (i1 - self.cos * i0) / self.sin));
+        let mut u = u.filter(|_| g.is_some());
+        d.fill(0.0);
+        if let Some(u) = u.as_deref_mut() {
+            u.fill(0.0);
+        }
+        for (x, w) in rule.cos_theta.iter().zip(&rule.weights) {
+            let t = 0.5 * self.len * (1.0 + x);
+            let wt = 0.5 * self.len * w;
+            let (st, ct) = t.sin_cos();
+            let h = h0 * ct + dh0 * st;
+            let gt = g.map_or(0.0, |(g1, g2)| g1 * ct + g2 * st);
+            let (mut pm, mut p) = (0.0, 1.0);
+            let (mut dpm, mut dp) = (0.0, 0.0);
+            for k in 0..d.len() {
+                d[k] += wt * dp;
+                if let Some(u) = u.as_deref_mut() {
+                    u[k] += wt * gt * p;
+                }
+                let kf = k as f64;
+                let two = 2.0 * kf + 1.0;
+                (dpm, dp) = (dp, dpm + two * p);
+                (pm, p) = (p, (two * h * p - kf * pm) / (kf + 1.0));
+            }
+        }
+    }
+}
+
+/// The signed solid angle of the spherical triangle of the directions of `qa`, `qb`,
+/// `qc` (positions relative to the shading point),
+/// `2 atan2(a . (b x c), 1 + a.b + b.c + c.a)` (Van Oosterom & Strackee 1983) with the
+/// determinant taken from the edges, `qa . ((qb - qa) x (qc - qa)) / (|qa| |qb| |qc|)`, so
+/// that a small triangle keeps its relative precision; positive when `a, b, c` turn
+/// counter-clockwise seen from outside the sphere.
+pub fn triangle_solid_angle(qa: [f64; 3], qb: [f64; 3], qc: [f64; 3]) -> f64 {
+    let (da, db, dc) = (norm(qa), norm(qb), norm(qc));
+    let e1 = std::array::from_fn(|k| qb[k] - qa[k]);
+    let e2 = std::array::from_fn(|k| qc[k] - qa[k]);
+    let det = dot(qa, cross(e1, e2)) / (da * db * dc);
+    let (a, b, c) = (qa.map(|x| x / da), qb.map(|x| x / db), qc.map(|x| x / dc));
     2.0 * det.atan2(1.0 + dot(a, b) + dot(b, c) + dot(c, a))
 }

@@ -174,13 +174,9 @@ pub fn spherical_polygon(polygon: &ClippedPolygon) -> (Vec<Arc>, f64) {
         return (Vec::new(), 0.0);
     }
     let dist: Vec<f64> = polygon.iter().map(|(p, _)| norm(*p)).collect();
-    let w: Vec<[f64; 3]> = polygon
-        .iter()
-        .zip(&dist)
-        .map(|((p, _), d)| p.map(|c| c / d))
-        .collect();
+    let q: Vec<[f64; 3]> = polygon.iter().map(|(p, _)| *p).collect();
     let omega: f64 = (1..nv - 1)
-        .map(|i| triangle_solid_angle(w[0], w[i], w[i + 1]))
+        .map(|i| triangle_solid_angle(q[0], q[i], q[i + 1]))
         .sum();
     let flip = omega < 0.0;
     let arcs = (0..nv)
@@ -188,9 +184,9 @@ pub fn spherical_polygon(polygon: &ClippedPolygon) -> (Vec<Arc>, f64) {
             let j = (i + 1) % nv;
             let inv = polygon[i].1.then(|| (1.0 / dist[i], 1.0 / dist[j]));
             if flip {
-                Arc::new(w[j], w[i], inv.map(|(a, b)| (b, a)))
+                Arc::new(q[j], q[i], inv.map(|(a, b)| (b, a)))
             } else {
-                Arc::new(w[i], w[j], inv)
+                Arc::new(q[i], q[j], inv)
             }
         })
         .collect();
