@@ -3,7 +3,7 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use psh::geometry::frame::CubeMapFrameField;
 use psh::geometry::image_grid::{CubeCross, PixelGrid};
-use psh::polarized::{project_cube_map, project_image, Codomain, PshRotation};
+use psh::polarized::{project_cube_map, project_image, Codomain, PshEvaluator, PshRotation};
 use psh::sh::wigner::rotation_from_rotvec;
 use psh::verify::{pseudo_random, random_psh};
 
@@ -54,5 +54,28 @@ fn psh_rotate(c: &mut Criterion) {
     grp.finish();
 }
 
-criterion_group!(benches, psh_project, psh_rotate);
+/// Point evaluation PSH (30) of an RGB, four-component vector at 1,000 directions with one
+/// `PshEvaluator` (the renderer's per-vertex step), l <= 4 and l <= 9.
+fn psh_evaluate(c: &mut Criterion) {
+    let dirs = psh::verify::random_directions(1000, 5);
+    let mut grp = c.benchmark_group("psh_evaluate");
+    for lmax in [4, 9] {
+        let v = random_psh(lmax, Codomain::Full, 3, 6).unwrap();
+        let mut eval = PshEvaluator::new(lmax).unwrap();
+        grp.bench_function(format!("1000_dirs/{lmax}"), |b| {
+            b.iter(|| {
+                dirs.iter()
+                    .map(|&w| {
+                        eval.evaluate_all(black_box(&v), w).unwrap()[0]
+                            .components()
+                            .to_array()[1]
+                    })
+                    .sum::<f64>()
+            })
+        });
+    }
+    grp.finish();
+}
+
+criterion_group!(benches, psh_project, psh_rotate, psh_evaluate);
 criterion_main!(benches);
