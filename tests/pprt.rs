@@ -389,3 +389,63 @@ fn ablation_writes_three_variants_side_by_side() {
     .to_string();
     assert!(e.contains("shadows false"), "{e}");
 }
+
+/// Inputs of another scene are errors, not panics: transfers, high orders and hits of the
+/// wrong sizes, a material or workspace the reference does not have.
+#[test]
+fn mismatched_runtime_inputs_are_errors() {
+    use psh::pprt::reference::{Fidelity, Reference, ReferenceSettings};
+    use psh::pprt::render::{background, primary_hits, render_frame, vertex_stokes};
+    let scene = builtin_scene(3, 8, 6).unwrap();
+    let settings = TransferSettings {
+        l_low: 3,
+        l_high: 0,
+        rays: 1,
+        shadows: false,
+    };
+    let transfer = precompute(&scene, settings).unwrap();
+    let none = vec![None; scene.materials().len()];
+    let e = vertex_stokes(&scene, &transfer[..2], &none).unwrap_err();
+    assert!(e.to_string().contains("transfer objects"), "{e}");
+    let e = vertex_stokes(&scene, &transfer, &none[..1]).unwrap_err();
+    assert!(e.to_string().contains("high orders"), "{e}");
+    let hits = primary_hits(&scene);
+    let bg = background(&scene, &hits).unwrap();
+    let e = render_frame(&scene, &transfer, &none, &hits[..10], &bg).unwrap_err();
+    assert!(e.to_string().contains("primary hits"), "{e}");
+    let r = Reference::new(
+        &scene,
+        ReferenceSettings {
+            samples: 4,
+            fidelity: Fidelity::BandLimited(3),
+            seed: 1,
+        },
+    )
+    .unwrap();
+    let e = r.render(&hits[..10]).unwrap_err();
+    assert!(e.to_string().contains("primary hits"), "{e}");
+    let out = psh::geometry::frame::Frame::world();
+    let mut ws = r.workspace().unwrap();
+    let e = r
+        .outgoing(&mut ws, 9, [0.0; 3], [0.0, 0.0, 1.0], &out, 0)
+        .unwrap_err();
+    assert!(e.to_string().contains("material"), "{e}");
+    let e = r
+        .outgoing(&mut ws, 0, [f64::NAN; 3], [0.0, 0.0, 1.0], &out, 0)
+        .unwrap_err();
+    assert!(e.to_string().contains("shading point"), "{e}");
+    let exact = Reference::new(
+        &scene,
+        ReferenceSettings {
+            samples: 4,
+            fidelity: Fidelity::Exact,
+            seed: 1,
+        },
+    )
+    .unwrap();
+    let mut small = exact.workspace().unwrap();
+    let e = r
+        .outgoing(&mut small, 0, [0.0; 3], [0.0, 0.0, 1.0], &out, 0)
+        .unwrap_err();
+    assert!(e.to_string().contains("workspace"), "{e}");
+}

@@ -24,7 +24,7 @@
 
 use super::render::{camera_travel_frame, seen_through, StokesImage};
 use super::scene::{EnvironmentSource, Hit, Scene, SceneMaterial};
-use crate::error::{Error, Result};
+use crate::error::{check_len, Error, Result};
 use crate::geometry::frame::{Frame, FrameField, PerspectiveFrameField, ThetaPhiFrameField};
 use crate::optics::{Channel, Conductor, Ggx, PolarizedPlastic};
 use crate::polarized::{PshEvaluator, PshMatrix, PshVector};
@@ -113,6 +113,16 @@ impl Lobe {
             Lobe::Plastic(p) => AtPoint::Plastic(p),
             Lobe::Conductor(m) => AtPoint::Conductor(m),
             Lobe::Matrices(m) => {
+                if basis.lmax() < m[0].lmax() {
+                    return Err(Error::InvalidArgument {
+                        name: "workspace",
+                        value: format!("basis band limit {}", basis.lmax()),
+                        reason: format!(
+                            "the material's matrices need {} (a workspace of this reference)",
+                            m[0].lmax()
+                        ),
+                    });
+                }
                 let (yr, y2) = basis.basis(wo)?;
                 let k = Contracted::new(m, yr, y2);
                 AtPoint::Matrices(k, ThetaPhiFrameField::new().frame(wo)?)
@@ -277,7 +287,9 @@ impl<'a> Reference<'a> {
 
     /// The Stokes vectors (RGB) leaving the point `p` of unit shading normal `n` with
     /// material `material` along `w_o`, components in `out` (a frame on the ray `w_o`);
-    /// `stream` decorrelates the sequence's shift between points.
+    /// `stream` decorrelates the sequence's shift between points. Errors: a material out of
+    /// range, a non-finite point, a normal that is not a unit vector, a workspace of
+    /// another reference with lower band limits.
     pub fn outgoing(
         &self,
         ws: &mut Workspace,
@@ -287,7 +299,20 @@ impl<'a> Reference<'a> {
         out: &Frame,
         stream: u64,
     ) -> Result<[[f64; 4]; 3]> {
-        let lobe = &self.lobes[material];
+        let lobe = self
+            .lobes
+            .get(material)
+            .ok_or_else(|| Error::InvalidArgument {
+                name: "material",
+                value: material.to_string(),
+                reason: format!("{} materials", self.lobes.len()),
+            })?;
+        if let Some(x) = p.iter().find(|x| !x.is_finite()) {
+            return Err(Error::NonFinite {
+                name: "shading point",
+                value: *x,
+            });
+        }
         let rot = Frame::from_z(n)?.rotation();
         let wo = out.direction();
         let wo_l = rot.inverse() * Vector3::from(wo);
@@ -351,8 +376,10 @@ impl<'a> Reference<'a> {
     /// The image through the pixels' primary hits (shading point and normal interpolated
     /// with the hit's barycentric coordinates, the light towards the camera in its frames,
     /// as [`super::render`]); pixels without a hit see the integrand's environment.
+    /// Error: `hits` not one per pixel of the scene's camera ([`super::render::primary_hits`]).
     pub fn render(&self, hits: &[Option<Hit>]) -> Result<StokesImage> {
         let cam = self.scene.camera();
+        check_len("primary hits", cam.width * cam.height, hits.len())?;
         let field = PerspectiveFrameField::new(cam.frame);
         let eye = Vector3::from(cam.position);
         let pixels: Vec<[[f64; 4]; 3]> = hits

@@ -11,7 +11,7 @@
 use super::reflected::reflected_radiance;
 use super::scene::{Camera, Hit, Scene};
 use super::transfer::VertexTransfer;
-use crate::error::Result;
+use crate::error::{check_len, Result};
 use crate::geometry::frame::{Frame, FrameField, PerspectiveFrameField};
 use crate::polarized::{PshEvaluator, PshVector};
 use crate::stokes::StokesVector;
@@ -109,12 +109,22 @@ pub fn background(scene: &Scene, hits: &[Option<Hit>]) -> Result<Vec<[[f64; 4]; 
 /// The Stokes vectors `[object][vertex][channel]` leaving every vertex towards the camera,
 /// in the camera's frames at the vertex's direction: PSH (30) in the shading frame,
 /// carried to world and read in the camera frame by PSH (14), plus the high orders
-/// `high[material]` at the reflected direction ([`super::reflected`]).
+/// `high[material]` at the reflected direction ([`super::reflected`]). Error: `transfer`
+/// or `high` not of this scene (one per vertex of each object, one per material).
 pub fn vertex_stokes(
     scene: &Scene,
     transfer: &[Vec<VertexTransfer>],
     high: &[Option<PshVector>],
 ) -> Result<Vec<Vec<[[f64; 4]; 3]>>> {
+    check_len("transfer objects", scene.objects().len(), transfer.len())?;
+    for (o, t) in scene.objects().iter().zip(transfer) {
+        check_len("vertex transfers", o.mesh.positions().len(), t.len())?;
+    }
+    check_len(
+        "high orders per material",
+        scene.materials().len(),
+        high.len(),
+    )?;
     let cam = scene.camera();
     let field = PerspectiveFrameField::new(cam.frame);
     let eye = Vector3::from(cam.position);
@@ -175,7 +185,8 @@ pub(crate) fn seen_through(
 
 /// One frame: [`vertex_stokes`] interpolated with the hits' barycentric coordinates
 /// (components all in the camera's frames). Pixels without a hit show `background`
-/// ([`background`]).
+/// ([`background`]). Errors: as [`vertex_stokes`], and `hits` or `background` not one per
+/// pixel.
 pub fn render_frame(
     scene: &Scene,
     transfer: &[Vec<VertexTransfer>],
@@ -184,6 +195,8 @@ pub fn render_frame(
     background: &[[[f64; 4]; 3]],
 ) -> Result<StokesImage> {
     let cam = scene.camera();
+    check_len("primary hits", cam.width * cam.height, hits.len())?;
+    check_len("background pixels", hits.len(), background.len())?;
     let vertex_stokes = vertex_stokes(scene, transfer, high)?;
     let pixels: Vec<[[f64; 4]; 3]> = hits
         .par_iter()
