@@ -159,8 +159,10 @@ material = "gold"
         (settings.l_low, settings.rays, settings.shadows),
         (3, 32, true)
     );
-    let report = render_job(&scene, settings, &[0.0, 90.0], &dir.join("out")).unwrap();
+    let report = render_job(&scene, settings, Some(1e-3), &[0.0, 90.0], &dir.join("out")).unwrap();
     assert_eq!(report["counts"]["primary_rays"], 1200);
+    // The plan says why it keeps or drops each part.
+    assert!(report["plan"]["reasons"].as_array().unwrap().len() >= 2);
     for f in [
         "render_s0.png",
         "render_dop.png",

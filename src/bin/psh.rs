@@ -133,6 +133,17 @@ struct RenderArgs {
     /// Polarizer angles in degrees (from image-right towards image-up), comma-separated.
     #[arg(long, default_value = "0,45,90,135", allow_hyphen_values = true)]
     polarizer: String,
+    /// Print the plan (what the scene needs and why, src/pprt/plan.rs) after rendering
+    /// with it; the render is planned unless --no-plan.
+    #[arg(long, conflicts_with = "no_plan")]
+    plan: bool,
+    /// Compute everything: full Stokes vectors, visibility rays, dense storage, every high
+    /// order up to --l-high.
+    #[arg(long)]
+    no_plan: bool,
+    /// Error tolerance of the plan's decisions (relative; in (0, 1)).
+    #[arg(long, default_value_t = 1e-3)]
+    tolerance: f64,
 }
 
 impl Default for RenderArgs {
@@ -147,6 +158,9 @@ impl Default for RenderArgs {
             ablation: false,
             size: "480x360".into(),
             polarizer: "0,45,90,135".into(),
+            plan: false,
+            no_plan: false,
+            tolerance: 1e-3,
         }
     }
 }
@@ -597,10 +611,19 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
         a.out.display()
     );
     if a.ablation {
-        psh::pprt::job::ablation_job(&scene, settings, &polarizers, &a.out)
-    } else {
-        psh::pprt::job::render_job(&scene, settings, &polarizers, &a.out)
+        return psh::pprt::job::ablation_job(&scene, settings, &polarizers, &a.out);
     }
+    let tolerance = (!a.no_plan).then_some(a.tolerance);
+    let report = psh::pprt::job::render_job(&scene, settings, tolerance, &polarizers, &a.out)?;
+    if a.plan {
+        if let Some(reasons) = report["plan"]["reasons"].as_array() {
+            println!("plan (tolerance {:e}):", a.tolerance);
+            for r in reasons.iter().filter_map(|r| r.as_str()) {
+                println!("  - {r}");
+            }
+        }
+    }
+    Ok(report)
 }
 
 /// `WxH` with positive sizes.

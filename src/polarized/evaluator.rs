@@ -49,13 +49,21 @@ impl PshEvaluator {
     /// Stokes vectors PSH (29) are in the theta-phi frame at `w`. Error: `w` not a unit
     /// vector.
     pub fn basis(&mut self, w: [f64; 3]) -> Result<(&[f64], &[Complex64])> {
+        self.fill(w, true)?;
+        Ok((&self.yr, &self.y2))
+    }
+
+    /// Fills the real SH at `w`, and the spin-2 SH when `spin` (zero otherwise).
+    fn fill(&mut self, w: [f64; 3], spin: bool) -> Result<()> {
         let (t, p) = direction_angles(w)?;
         self.scalar.real(t, p, &mut self.yr)?;
-        match &self.spin {
-            Some(s) => s.values(t, p, &mut self.y2)?,
-            None => self.y2.fill(Complex64::default()),
+        match (&self.spin, spin) {
+            (Some(s), true) => s.values(t, p, &mut self.y2),
+            _ => {
+                self.y2.fill(Complex64::default());
+                Ok(())
+            }
         }
-        Ok((&self.yr, &self.y2))
     }
 
     /// The Stokes vectors of every channel of `v` at the unit direction `w` by PSH (30),
@@ -69,7 +77,8 @@ impl PshEvaluator {
                 reason: format!("the evaluator's band limit is {}", self.lmax()),
             });
         }
-        self.basis(w)?;
+        // Scalar SH needs no spin-2 basis.
+        self.fill(w, v.codomain().has_spin2())?;
         let frame = ThetaPhiFrameField::new().frame(w)?;
         let comps = v.codomain().components();
         let np = comps.len();

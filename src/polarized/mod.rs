@@ -23,6 +23,7 @@ mod isotropic;
 mod kernel;
 mod matrix;
 mod rotation;
+mod sparse;
 mod synthesis;
 mod triple;
 
@@ -38,6 +39,7 @@ pub use isotropic::{isotropic_lmax, isotropic_pairs, isotropy_defect, IsotropicM
 pub use kernel::{ConvolutionKernel, KernelValue};
 pub use matrix::{project_operator, MatrixKernel, PshMatrix, SpinBlock22};
 pub use rotation::PshRotation;
+pub use sparse::{SparsePshMatrix, Sparsity};
 pub use synthesis::reconstruct_image;
 pub use triple::{spin2_gaunt, visibility_transfer, visibility_transfer_quadrature, TripleTable};
 
@@ -51,6 +53,8 @@ use num_complex::Complex64;
 /// Which Stokes components a field or coefficient vector carries (polarsh `cod_type`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Codomain {
+    /// Intensity only, `{s0}`: scalar SH (`SCALAR`).
+    Intensity,
     /// Linear polarization only, `{s1, s2}` (`POLAR2`).
     Linear,
     /// `{s0, s1, s2}` (`POLAR3`).
@@ -63,15 +67,22 @@ impl Codomain {
     /// The Stokes components present, in storage order.
     pub fn components(self) -> &'static [usize] {
         match self {
+            Codomain::Intensity => &[0],
             Codomain::Linear => &[1, 2],
             Codomain::NoCircular => &[0, 1, 2],
             Codomain::Full => &[0, 1, 2, 3],
         }
     }
 
+    /// Whether the linear (spin-2) components `s1, s2` are present.
+    pub fn has_spin2(self) -> bool {
+        self != Codomain::Intensity
+    }
+
     /// The polarsh name.
     pub fn name(self) -> &'static str {
         match self {
+            Codomain::Intensity => "SCALAR",
             Codomain::Linear => "POLAR2",
             Codomain::NoCircular => "POLAR3",
             Codomain::Full => "POLAR4",
@@ -81,13 +92,14 @@ impl Codomain {
     /// From a polarsh name.
     pub fn from_name(name: &str) -> Result<Self> {
         match name {
+            "SCALAR" => Ok(Codomain::Intensity),
             "POLAR2" => Ok(Codomain::Linear),
             "POLAR3" => Ok(Codomain::NoCircular),
             "POLAR4" => Ok(Codomain::Full),
             _ => Err(Error::InvalidArgument {
                 name: "codomain",
                 value: name.into(),
-                reason: "expected POLAR2, POLAR3 or POLAR4".into(),
+                reason: "expected SCALAR, POLAR2, POLAR3 or POLAR4".into(),
             }),
         }
     }
@@ -255,6 +267,30 @@ impl PshVector {
         PshVector::from_data(lmax, self.codomain, self.channels, data)
     }
 
+    /// The same coefficients with every degree `l <= l_low` zeroed (a high pass).
+    pub fn without_bands_through(&self, l_low: usize) -> PshVector {
+        let mut out = self.clone();
+        let len = num_coeffs(l_low.min(self.lmax)) * self.codomain.components().len();
+        for c in 0..self.channels {
+            let o = self.offset(c, 0);
+            out.data[o..o + len].fill(0.0);
+        }
+        out
+    }
+
+    /// The energy of each degree, `E_l = sum_{c, m, p} f_lmp^2` (`l <= lmax`): by
+    /// Parseval, the squared L2 norm over the sphere of the band `l` of the field.
+    pub fn band_energies(&self) -> Vec<f64> {
+        let np = self.codomain.components().len();
+        let mut e = vec![0.0; self.lmax + 1];
+        for x in self.data.chunks_exact(num_coeffs(self.lmax) * np) {
+            for (j, f) in x.chunks_exact(np).enumerate() {
+                e[crate::sh::lm_of_index(j).0] += f.iter().map(|v| v * v).sum::<f64>();
+            }
+        }
+        e
+    }
+
     fn offset(&self, channel: usize, lm: usize) -> usize {
         (channel * num_coeffs(self.lmax) + lm) * self.codomain.components().len()
     }
@@ -324,6 +360,9 @@ impl PshVector {
                     out.set_component(c, k, &g);
                 }
             }
+            if !self.codomain.has_spin2() {
+                continue;
+            }
             let a = self.spin2(c);
             let b: Vec<Complex64> = (0..a.len())
                 .map(|i| {
@@ -350,13 +389,17 @@ impl PshVector {
         }
     }
 
-    /// The spin-2 coefficients `f_lm1 + i f_lm2` of channel `c` (flat order; zero for `l < 2`).
+    /// The spin-2 coefficients `f_lm1 + i f_lm2` of channel `c` (flat order; zero for `l < 2`
+    /// and for a codomain without them).
     fn spin2(&self, c: usize) -> Vec<Complex64> {
+        if !self.codomain.has_spin2() {
+            return vec![Complex64::default(); num_coeffs(self.lmax)];
+        }
         let comps = self.codomain.components();
         let k1 = comps
             .iter()
             .position(|&p| p == 1)
-            .expect("every codomain has s1");
+            .expect("checked: the codomain has s1");
         let (re, im) = (self.component(c, k1), self.component(c, k1 + 1));
         re.iter()
             .zip(&im)
@@ -364,12 +407,16 @@ impl PshVector {
             .collect()
     }
 
+    /// Sets the spin-2 coefficients of channel `c` (a codomain without them drops `z`).
     fn set_spin2(&mut self, c: usize, z: &[Complex64]) {
+        if !self.codomain.has_spin2() {
+            return;
+        }
         let comps = self.codomain.components();
         let k1 = comps
             .iter()
             .position(|&p| p == 1)
-            .expect("every codomain has s1");
+            .expect("checked: the codomain has s1");
         let re: Vec<f64> = z.iter().map(|v| v.re).collect();
         let im: Vec<f64> = z.iter().map(|v| v.im).collect();
         self.set_component(c, k1, &re);
@@ -454,7 +501,7 @@ impl PshTransform {
                     out.set_component(c, k, &coeffs);
                 }
             }
-            if let Some(spin2) = &self.spin2 {
+            if let (Some(spin2), true) = (&self.spin2, codomain.has_spin2()) {
                 let z: Vec<Complex64> = field.iter().map(|s| Complex64::new(s[1], s[2])).collect();
                 let mut a = vec![Complex64::default(); n];
                 spin2.analysis(&z, &mut a)?;
@@ -489,7 +536,7 @@ impl PshTransform {
                 }
             }
         }
-        if let Some(spin2) = &self.spin2 {
+        if let (Some(spin2), true) = (&self.spin2, v.codomain().has_spin2()) {
             let mut z = vec![Complex64::default(); npts];
             spin2.synthesis(&v.spin2(c), &mut z)?;
             for (o, x) in out.iter_mut().zip(z) {

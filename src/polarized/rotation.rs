@@ -9,7 +9,7 @@
 //!   (PSH (37)), i.e. `a'_lm = sum_m' D^l_mm' a_lm'` for `a = f_1 + i f_2`;
 //! - no coupling between spin 0 and spin 2, nor between different `l`.
 
-use super::PshVector;
+use super::{Codomain, PshVector};
 use crate::error::{Error, Result};
 use crate::sh::wigner::{RealWignerD, WignerD};
 use nalgebra::Rotation3;
@@ -18,15 +18,26 @@ use nalgebra::Rotation3;
 #[derive(Clone, Debug)]
 pub struct PshRotation {
     real: RealWignerD,
-    complex: WignerD,
+    /// `None` when built for a codomain without spin-2 components.
+    complex: Option<WignerD>,
 }
 
 impl PshRotation {
     /// The blocks of rotation `r` for `l <= lmax`.
     pub fn new(r: &Rotation3<f64>, lmax: usize) -> Result<Self> {
+        Self::for_codomain(r, lmax, Codomain::Full)
+    }
+
+    /// The blocks that act on `codomain`: the spin-2 blocks only when it has `s1, s2`
+    /// (scalar SH needs the real Wigner blocks alone).
+    pub fn for_codomain(r: &Rotation3<f64>, lmax: usize, codomain: Codomain) -> Result<Self> {
         Ok(Self {
             real: RealWignerD::new(r, lmax)?,
-            complex: WignerD::new(r, lmax)?,
+            complex: if codomain.has_spin2() {
+                Some(WignerD::new(r, lmax)?)
+            } else {
+                None
+            },
         })
     }
 
@@ -51,7 +62,17 @@ impl PshRotation {
                     out.set_component(c, k, &self.real.rotate(&v.component(c, k))?);
                 }
             }
-            out.set_spin2(c, &self.complex.rotate(&v.spin2(c))?);
+            if v.codomain().has_spin2() {
+                let complex = self
+                    .complex
+                    .as_ref()
+                    .ok_or_else(|| Error::InvalidArgument {
+                        name: "PSH vector codomain",
+                        value: v.codomain().name().into(),
+                        reason: "the rotation was built without spin-2 blocks".into(),
+                    })?;
+                out.set_spin2(c, &complex.rotate(&v.spin2(c))?);
+            }
         }
         Ok(out)
     }

@@ -9,7 +9,7 @@
 //!   `P~iso_{j_o j_i} = sum v_{l'm'} int conj(2Y_{j_o}) Y^R_{l'm'} 2Y_{j_i}` (PSH (56)).
 //! - Spin 0-to-2 and 2-to-0 blocks vanish.
 
-use super::PshMatrix;
+use super::{Codomain, PshMatrix, PshVector};
 use crate::error::{check_len, Error, Result};
 use crate::sh::gaunt::{wigner_3j_row, wigner_3j_row_into, GauntBasis, GauntTable};
 use crate::sh::{check_lmax, lm_index, num_coeffs};
@@ -84,6 +84,7 @@ pub struct TripleTable {
     lmax: usize,
     scalar: GauntTable,
     spin: Vec<SpinEntry>,
+    has_spin2: bool,
 }
 
 impl TripleTable {
@@ -91,11 +92,20 @@ impl TripleTable {
     /// `proofs/triple-products.md`). Errors: `lv` or `lmax` beyond the Gaunt table limit
     /// ([`crate::sh::gaunt::MAX_TABLE_DEGREE`]).
     pub fn new(lv: usize, lmax: usize) -> Result<Self> {
+        Self::for_codomain(lv, lmax, Codomain::Full)
+    }
+
+    /// The couplings that act on `codomain`: PSH (56) only when it has `s1, s2` (scalar SH
+    /// needs the real Gaunt table alone). [`Self::transfer`] then has zero spin-2 blocks,
+    /// and [`Self::shadow`] refuses vectors with spin-2 components.
+    pub fn for_codomain(lv: usize, lmax: usize, codomain: Codomain) -> Result<Self> {
         check_lmax(lmax)?;
         let scalar = GauntTable::new(GauntBasis::Real, lv, lmax, lmax)?;
         let mut spin = Vec::new();
         let (mut row_m, mut row_s) = (Vec::new(), Vec::new());
-        for lo in 2..=lmax {
+        // No spin-2 degrees for scalar SH.
+        let last = if codomain.has_spin2() { lmax } else { 1 };
+        for lo in 2..=last {
             for l in 0..=lv {
                 // (lo l li; 2 0 -2) for li = smin..=lo+l.
                 let smin = wigner_3j_row_into(lo, l, 2, 0, &mut row_s)?;
@@ -128,6 +138,7 @@ impl TripleTable {
             lmax,
             scalar,
             spin,
+            has_spin2: codomain.has_spin2(),
         })
     }
 
@@ -141,16 +152,59 @@ impl TripleTable {
         self.lmax
     }
 
+    /// Errors: `v` of the wrong length or not finite.
+    fn check_visibility(&self, v: &[f64]) -> Result<()> {
+        check_len("visibility coefficients", num_coeffs(self.lv), v.len())?;
+        match v.iter().find(|x| !x.is_finite()) {
+            Some(x) => Err(Error::NonFinite {
+                name: "visibility coefficient",
+                value: *x,
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// The coefficients of `V f` (PSH (54)) for `V = sum v_{lm} Y^R_{lm}`, in `f`'s
+    /// codomain, without forming the matrix: one pass over the couplings of PSH (55) per
+    /// spin-0 component, and of PSH (56) when `f` has `s1, s2` (scalar SH costs the first
+    /// pass alone). Errors: as [`Self::transfer`], and `f` of another band limit.
+    pub fn shadow(&self, v: &[f64], f: &PshVector) -> Result<PshVector> {
+        self.check_visibility(v)?;
+        if f.lmax() != self.lmax || (f.codomain().has_spin2() && !self.has_spin2) {
+            return Err(Error::InvalidArgument {
+                name: "PSH vector",
+                value: format!("lmax {}, {}", f.lmax(), f.codomain().name()),
+                reason: format!(
+                    "the triple table has lmax {}{}",
+                    self.lmax,
+                    if self.has_spin2 { "" } else { ", spin 0 only" }
+                ),
+            });
+        }
+        let mut out = f.clone();
+        let c = real_to_complex(v, self.lv);
+        for ch in 0..f.channels() {
+            for (k, &p) in f.codomain().components().iter().enumerate() {
+                if p == 0 || p == 3 {
+                    out.set_component(ch, k, &self.scalar.product(v, &f.component(ch, k))?);
+                }
+            }
+            if f.codomain().has_spin2() {
+                let a = f.spin2(ch);
+                let mut b = vec![Complex64::default(); a.len()];
+                for e in &self.spin {
+                    b[e.jo as usize] += c[e.lm as usize] * e.value * a[e.ji as usize];
+                }
+                out.set_spin2(ch, &b);
+            }
+        }
+        Ok(out)
+    }
+
     /// The PSH matrix of `f -> V f` (PSH (54)) for `V = sum v_{lm} Y^R_{lm}`, `l <= lv`,
     /// flat order `l*l + l + m`. Errors: wrong length, non-finite `v`.
     pub fn transfer(&self, v: &[f64]) -> Result<PshMatrix> {
-        check_len("visibility coefficients", num_coeffs(self.lv), v.len())?;
-        if let Some(x) = v.iter().find(|x| !x.is_finite()) {
-            return Err(Error::NonFinite {
-                name: "visibility coefficient",
-                value: *x,
-            });
-        }
+        self.check_visibility(v)?;
         let n = num_coeffs(self.lmax);
         let mut data = vec![0.0; n * n * 16];
         // PSH (55): the real Gaunt product matrix, on the diagonal p_o = p_i in {0, 3}.
@@ -181,13 +235,8 @@ impl TripleTable {
 /// `V = sum v_{lm} Y^R_{lm}` (real SH, PSH (12), `l <= lv`), band limit `lmax`. For many
 /// visibilities build a [`TripleTable`] once.
 pub fn visibility_transfer(v: &[f64], lv: usize, lmax: usize) -> Result<PshMatrix> {
+    // Checked before the table is built.
     check_len("visibility coefficients", num_coeffs(lv), v.len())?;
-    if let Some(x) = v.iter().find(|x| !x.is_finite()) {
-        return Err(Error::NonFinite {
-            name: "visibility coefficient",
-            value: *x,
-        });
-    }
     TripleTable::new(lv, lmax)?.transfer(v)
 }
 
@@ -195,7 +244,7 @@ pub fn visibility_transfer(v: &[f64], lv: usize, lmax: usize) -> Result<PshMatri
 /// `sum_a w_a <Y_{j_o p_o}(w_a), V(w_a) Y_{j_i p_i}(w_a)>` for every pair of basis functions,
 /// with the basis fields reconstructed by [`super::PshTransform`] (PSH (30)).
 pub fn visibility_transfer_quadrature(v: &[f64], lv: usize, lmax: usize) -> Result<PshMatrix> {
-    use super::{Codomain, PshTransform, PshVector};
+    use super::PshTransform;
     check_len("visibility coefficients", num_coeffs(lv), v.len())?;
     // Integrand degree lo + lv + li <= 2 lmax + lv: exact for 2 L >= 2 lmax + lv.
     let big = lmax + lv / 2 + 1;
@@ -242,6 +291,27 @@ mod tests {
     use crate::sh::lm_of_index;
     use crate::swsh::swsh;
     use crate::verify::pseudo_random;
+
+    /// `shadow` equals the matrix product, in every codomain, and a scalar-only table
+    /// refuses spin-2 input.
+    #[test]
+    fn shadow_equals_transfer_matrix() {
+        let (lv, lmax) = (6, 4);
+        let v = pseudo_random(num_coeffs(lv), 3);
+        let want_full = TripleTable::new(lv, lmax).unwrap().transfer(&v).unwrap();
+        for cod in [Codomain::Intensity, Codomain::NoCircular, Codomain::Full] {
+            let f = crate::verify::random_psh(lmax, cod, 2, 5).unwrap();
+            let table = TripleTable::for_codomain(lv, lmax, cod).unwrap();
+            let got = table.shadow(&v, &f).unwrap();
+            let want = want_full.apply(&f).unwrap().with_codomain(cod);
+            for (a, b) in got.data().iter().zip(want.data()) {
+                assert!((a - b).abs() < 1e-13, "{cod:?}: {a} vs {b}");
+            }
+        }
+        let scalar = TripleTable::for_codomain(lv, lmax, Codomain::Intensity).unwrap();
+        let f = crate::verify::random_psh(lmax, Codomain::Full, 1, 5).unwrap();
+        assert!(scalar.shadow(&v, &f).is_err());
+    }
 
     fn max_diff(a: &[f64], b: &[f64]) -> f64 {
         a.iter()

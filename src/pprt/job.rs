@@ -3,14 +3,16 @@
 //! `report.json` with the time of every stage, the counts and the settings.
 
 use super::mesh::Mesh;
+use super::plan::Plan;
 use super::render::{background, primary_hits, render_frame, StokesImage};
 use super::scene::{Camera, EnvironmentSource, Scene, SceneMaterial, SceneObject};
 use super::sky::RayleighSky;
-use super::transfer::{high_orders, precompute_with_progress, TransferSettings};
+use super::transfer::{precompute_planned, TransferSettings};
 use crate::error::{Error, Result};
 use crate::io::exr::write_stokes_image;
 use crate::io::png::{srgb8, write_png, write_stokes_pngs};
-use crate::optics::{Material, PolarizedPlastic};
+use crate::optics::{Lambertian, Material, PolarizedPlastic};
+use crate::polarized::Codomain;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -21,7 +23,61 @@ use std::time::Instant;
 /// ground; environment band limit `lmax`.
 pub fn builtin_scene(lmax: usize, width: usize, height: usize) -> Result<Scene> {
     let sky = RayleighSky::new(35f64.to_radians(), 2.4)?;
-    let objects = vec![
+    let materials = vec![
+        SceneMaterial::Plastic(PolarizedPlastic::new(0.6, 1.5, 0.6)?),
+        SceneMaterial::Plastic(PolarizedPlastic::new(0.15, 1.5, 0.2)?),
+        SceneMaterial::Conductor {
+            material: Material::Gold,
+            alpha: 0.2,
+        },
+    ];
+    Scene::new(
+        builtin_objects()?,
+        materials,
+        sky.project(lmax)?,
+        builtin_camera(width, height)?,
+    )?
+    .with_source(EnvironmentSource::Sky(sky))
+}
+
+/// The built-in scene's geometry and camera with nothing polarized: depolarizing
+/// Lambertian materials (grey ground, red and gold-coloured spheres, gold-coloured torus)
+/// under the sky's intensity `s0` alone (band limit `lmax`); the planner's scalar case
+/// ([`super::plan`]).
+pub fn builtin_unpolarized_scene(lmax: usize, width: usize, height: usize) -> Result<Scene> {
+    let sky = RayleighSky::new(35f64.to_radians(), 2.4)?
+        .project(lmax)?
+        .with_codomain(Codomain::Intensity)
+        .with_codomain(Codomain::Full);
+    let diffuse = |rgb: [f64; 3]| -> Result<SceneMaterial> {
+        Ok(SceneMaterial::Diffuse([
+            Lambertian::new(rgb[0])?,
+            Lambertian::new(rgb[1])?,
+            Lambertian::new(rgb[2])?,
+        ]))
+    };
+    let materials = vec![
+        diffuse([0.6, 0.6, 0.6])?,
+        diffuse([0.7, 0.15, 0.1])?,
+        diffuse([0.9, 0.7, 0.3])?,
+    ];
+    Scene::new(
+        builtin_objects()?,
+        materials,
+        sky,
+        builtin_camera(width, height)?,
+    )
+}
+
+/// The camera of the built-in scenes.
+fn builtin_camera(width: usize, height: usize) -> Result<Camera> {
+    Camera::look_at([0.0, -4.5, 2.2], [0.0, 0.0, 0.5], 0.75, width, height)
+}
+
+/// The objects of the built-in scenes (materials 0: ground, 1: left sphere, 2: right
+/// sphere and torus).
+fn builtin_objects() -> Result<Vec<SceneObject>> {
+    Ok(vec![
         SceneObject {
             mesh: Mesh::plane([0.0, 0.0, 0.0], 4.0, 24)?,
             material: 0,
@@ -38,31 +94,22 @@ pub fn builtin_scene(lmax: usize, width: usize, height: usize) -> Result<Scene> 
             mesh: Mesh::torus([0.1, -1.3, 0.16], 0.42, 0.16, 64, 24)?,
             material: 2,
         },
-    ];
-    let materials = vec![
-        SceneMaterial::Plastic(PolarizedPlastic::new(0.6, 1.5, 0.6)?),
-        SceneMaterial::Plastic(PolarizedPlastic::new(0.15, 1.5, 0.2)?),
-        SceneMaterial::Conductor {
-            material: Material::Gold,
-            alpha: 0.2,
-        },
-    ];
-    let camera = Camera::look_at([0.0, -4.5, 2.2], [0.0, 0.0, 0.5], 0.75, width, height)?;
-    Scene::new(objects, materials, sky.project(lmax)?, camera)?
-        .with_source(EnvironmentSource::Sky(sky))
+    ])
 }
 
-/// Renders `scene` with `settings` into `out` (created): `render_s{0..3}.exr` (components
+/// Renders `scene` with `settings` into `out` (created), planned within `tolerance`
+/// ([`Plan::new`]) or with everything computed (`None`, [`Plan::full`]): `render_s{0..3}.exr` (components
 /// in the camera's frames, [`super::render`]), `render_{s0,s1,s2,s3,dop,aop}.png`,
 /// `polarizer_{deg}.png` for each angle in `polarizers` (degrees from image-right towards
-/// image-up) and `report.json`. Returns the report.
+/// image-up) and `report.json` (with the plan). Returns the report.
 pub fn render_job(
     scene: &Scene,
     settings: TransferSettings,
+    tolerance: Option<f64>,
     polarizers: &[f64],
     out: &Path,
 ) -> Result<serde_json::Value> {
-    Ok(render_to(scene, settings, polarizers, out)?.0)
+    Ok(render_to(scene, settings, tolerance, polarizers, out)?.0)
 }
 
 /// The ablation of PSH Figs. 20 and 21: the scene rendered [`render_job`]-style into
@@ -110,7 +157,7 @@ pub fn ablation_job(
     let mut rows = Vec::new();
     let mut panels = Vec::new();
     for (name, s) in variants {
-        let (report, image) = render_to(scene, s, polarizers, &out.join(name))?;
+        let (report, image) = render_to(scene, s, None, polarizers, &out.join(name))?;
         rows.push(
             json!({"variant": name, "settings": report["settings"], "times_s": report["times_s"]}),
         );
@@ -143,6 +190,7 @@ pub fn ablation_job(
 fn render_to(
     scene: &Scene,
     settings: TransferSettings,
+    tolerance: Option<f64>,
     polarizers: &[f64],
     out: &Path,
 ) -> Result<(serde_json::Value, StokesImage)> {
@@ -165,12 +213,20 @@ fn render_to(
                 reason: "an indicatif template".into(),
             })?,
     );
-    let transfer = precompute_with_progress(scene, settings, &bar)?;
+    let plan = match tolerance {
+        Some(t) => Plan::new(scene, settings, t)?,
+        None => Plan::full(scene, settings)?,
+    };
+    let t_plan = t0.elapsed().as_secs_f64();
+    let transfer = precompute_planned(scene, &plan, &bar)?;
     bar.finish_and_clear();
-    let high = high_orders(scene, settings)?;
-    let t_pre = t0.elapsed().as_secs_f64();
-    let residuals: Vec<Option<f64>> = high.iter().map(|h| h.as_ref().map(|x| x.1)).collect();
-    let high: Vec<_> = high.into_iter().map(|h| h.map(|x| x.0)).collect();
+    let t_pre = t0.elapsed().as_secs_f64() - t_plan;
+    let residuals: Vec<Option<f64>> = plan
+        .materials
+        .iter()
+        .map(|m| m.high.as_ref().map(|x| x.1))
+        .collect();
+    let high = plan.high_fields();
     let t1 = Instant::now();
     let hits = primary_hits(scene);
     let bg = background(scene, &hits)?;
@@ -207,14 +263,20 @@ fn render_to(
         },
         "counts": {
             "vertices": vertices, "triangles": scene.triangle_count(),
-            "visibility_directions": if settings.shadows { vertices * settings.rays } else { 0 },
+            "visibility_directions": if plan.visibility == super::plan::Visibility::Rays {
+                vertices * settings.rays
+            } else {
+                0
+            },
             "primary_rays": cam.width * cam.height,
-            "transfer_coefficients_per_vertex": 3 * 4 * crate::sh::num_coeffs(settings.l_low),
+            "transfer_coefficients_per_vertex":
+                3 * plan.codomain.components().len() * crate::sh::num_coeffs(settings.l_low),
             "degenerate_triangles_dropped": scene.objects().iter().map(|o| o.mesh.dropped()).sum::<usize>(),
         },
+        "plan": plan.to_json(),
         "high_order_projection_residual_per_material": residuals,
         "times_s": {
-            "precompute": t_pre, "primary_visibility_and_background": t_hits, "frame": t_frame,
+            "plan": t_plan, "precompute": t_pre, "primary_visibility_and_background": t_hits, "frame": t_frame,
             "pictures": t_out,
         },
         "pictures": written,

@@ -9,6 +9,7 @@
 //! | [`reflected`] | high orders by convolution at the reflected direction | PSH Sec. 7 |
 //! | [`scene`] | materials, camera, BVH ray queries | |
 //! | [`scene_file`] | TOML scene files | |
+//! | [`plan`] | what a scene needs: Stokes components, visibility, storage, high orders | PSH (41), (52)-(56) |
 //! | [`transfer`] | visibility, PSH (54)-(56), (35)-(37), (41) per vertex | PSH Sec. 7 |
 //! | [`render`] | runtime frame, camera frames, polarizer images | PSH (14), (30) |
 //! | [`reference`] | quasi-Monte Carlo reference renderer in explicit frames | PSH (39) |
@@ -18,6 +19,7 @@
 pub mod bench_error;
 pub mod job;
 pub mod mesh;
+pub mod plan;
 pub mod reference;
 pub mod reflected;
 pub mod render;

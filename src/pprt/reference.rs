@@ -26,7 +26,7 @@ use super::render::{camera_travel_frame, seen_through, StokesImage};
 use super::scene::{EnvironmentSource, Hit, Scene, SceneMaterial};
 use crate::error::{check_len, Error, Result};
 use crate::geometry::frame::{Frame, FrameField, PerspectiveFrameField, ThetaPhiFrameField};
-use crate::optics::{Channel, Conductor, Ggx, PolarizedPlastic};
+use crate::optics::{Channel, Conductor, Ggx, Lambertian, PolarizedPlastic};
 use crate::polarized::{PshEvaluator, PshMatrix, PshVector};
 use crate::sh::num_coeffs;
 use crate::stokes::{
@@ -62,6 +62,7 @@ pub struct ReferenceSettings {
 
 /// A material's pBRDF per channel, as the reference evaluates it.
 enum Lobe {
+    Diffuse([Lambertian; 3]),
     Plastic(PolarizedPlastic),
     Conductor([Conductor; 3]),
     Matrices(Box<[PshMatrix; 3]>),
@@ -69,6 +70,7 @@ enum Lobe {
 
 /// A lobe at one shading point (`w_o` fixed), in the shading frame.
 enum AtPoint<'a> {
+    Diffuse(&'a [Lambertian; 3]),
     Plastic(&'a PolarizedPlastic),
     Conductor(&'a [Conductor; 3]),
     /// The contraction and the theta-phi frame at `w_o`.
@@ -84,6 +86,11 @@ impl AtPoint<'_> {
         wo: [f64; 3],
     ) -> Result<[MuellerTransform; 3]> {
         Ok(match self {
+            AtPoint::Diffuse(d) => [
+                d[0].transform(wi, wo)?,
+                d[1].transform(wi, wo)?,
+                d[2].transform(wi, wo)?,
+            ],
             AtPoint::Plastic(p) => {
                 let m = p.transform(wi, wo)?;
                 [m, m, m]
@@ -110,6 +117,7 @@ impl Lobe {
     /// The lobe at a shading point with outgoing direction `wo` (shading frame).
     fn at(&self, basis: &mut PshEvaluator, wo: [f64; 3]) -> Result<AtPoint<'_>> {
         Ok(match self {
+            Lobe::Diffuse(d) => AtPoint::Diffuse(d),
             Lobe::Plastic(p) => AtPoint::Plastic(p),
             Lobe::Conductor(m) => AtPoint::Conductor(m),
             Lobe::Matrices(m) => {
@@ -135,7 +143,7 @@ impl Lobe {
         match self {
             Lobe::Plastic(p) => Some((*p.specular().ggx(), 0.5)),
             Lobe::Conductor(m) => Some((*m[0].specular().ggx(), 0.9)),
-            Lobe::Matrices(_) => None,
+            Lobe::Diffuse(_) | Lobe::Matrices(_) => None,
         }
     }
 }
@@ -219,6 +227,7 @@ impl<'a> Reference<'a> {
             .map(|m| {
                 Ok(match (m, settings.fidelity) {
                     (_, Fidelity::BandLimited(l)) => Lobe::Matrices(Box::new(m.matrices(l)?)),
+                    (SceneMaterial::Diffuse(d), _) => Lobe::Diffuse(*d),
                     (SceneMaterial::Plastic(p), _) => Lobe::Plastic(*p),
                     (SceneMaterial::Conductor { material, alpha }, _) => {
                         let c = |ch| Conductor::from_material(*alpha, *material, ch);

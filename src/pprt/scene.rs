@@ -4,7 +4,7 @@
 use super::mesh::Mesh;
 use super::sky::RayleighSky;
 use crate::error::{Error, Result};
-use crate::optics::{Channel, Conductor, Material, PolarizedPlastic};
+use crate::optics::{Channel, Conductor, Lambertian, Material, PolarizedPlastic};
 use crate::polarized::{project_operator, PshMatrix, PshVector, SpinBlock22};
 use crate::stokes::MuellerField;
 use bvh::aabb::{Aabb, Bounded};
@@ -21,6 +21,8 @@ pub enum SceneMaterial {
     Plastic(PolarizedPlastic),
     /// A conductor of the PF table with GGX roughness `alpha` ([`Conductor::from_material`]).
     Conductor { material: Material, alpha: f64 },
+    /// A depolarizing Lambertian reflector per channel (RGB albedos, [`Lambertian`]).
+    Diffuse([Lambertian; 3]),
     /// Coefficient matrices given directly (RGB), e.g. a measured pBRDF read from a
     /// polarsh `.npz`; truncated to the band limit asked for.
     Matrices(Box<[PshMatrix; 3]>),
@@ -39,6 +41,7 @@ impl SceneMaterial {
                 m[1].truncated(lmax)?,
                 m[2].truncated(lmax)?,
             ]),
+            Self::Diffuse(d) => Ok([project(&d[0])?, project(&d[1])?, project(&d[2])?]),
             Self::Plastic(p) => {
                 let m = project(p)?;
                 Ok([m.clone(), m.clone(), m])

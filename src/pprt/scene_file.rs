@@ -25,8 +25,9 @@
 //!
 //! [[material]]
 //! name = "glass"
-//! type = "plastic"              # or "conductor" (table = "Gold", alpha) or
-//! alpha = 0.15                  # "npz" (path: a polarsh ISOBI2 pBRDF matrix)
+//! type = "plastic"              # or "conductor" (table = "Gold", alpha), "diffuse"
+//! alpha = 0.15                  # (albedo = [r, g, b], depolarizing Lambertian) or
+//!                               # "npz" (path: a polarsh ISOBI2 pBRDF matrix)
 //! ior = 1.5
 //! albedo = 0.2
 //!
@@ -47,7 +48,7 @@ use super::scene::{Camera, EnvironmentSource, Scene, SceneMaterial, SceneObject}
 use super::sky::RayleighSky;
 use super::transfer::TransferSettings;
 use crate::error::{Error, Result};
-use crate::optics::{Material, PolarizedPlastic};
+use crate::optics::{Lambertian, Material, PolarizedPlastic};
 use crate::polarized::{Codomain, PshRotation, PshVector};
 use nalgebra::{Rotation3, Vector3};
 use serde::Deserialize;
@@ -147,6 +148,10 @@ enum MaterialSpec {
         name: String,
         table: String,
         alpha: f64,
+    },
+    Diffuse {
+        name: String,
+        albedo: [f64; 3],
     },
     Npz {
         name: String,
@@ -274,6 +279,16 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
                     alpha: *alpha,
                 },
             ),
+            MaterialSpec::Diffuse { name, albedo } => {
+                let lambert = |c: usize| {
+                    Lambertian::new(albedo[c])
+                        .map_err(|e| field(&format!("material '{name}'.albedo"), e))
+                };
+                (
+                    name,
+                    SceneMaterial::Diffuse([lambert(0)?, lambert(1)?, lambert(2)?]),
+                )
+            }
             MaterialSpec::Npz { name, path: p } => {
                 let mats = crate::io::npz::read_isotropic_npz(resolve(p)?)?;
                 let dense = mats

@@ -10,10 +10,11 @@
 //! vertex. The environment is fixed at precomputation; a new environment re-runs the
 //! products, not the ray casting (the visibility vectors are kept).
 
+use super::plan::{Plan, Visibility};
 use super::scene::Scene;
 use crate::error::{Error, Result};
 use crate::geometry::frame::Frame;
-use crate::polarized::{Codomain, PshRotation, PshVector, TripleTable};
+use crate::polarized::{PshRotation, PshVector, TripleTable};
 use crate::sh::harmonics::ShEvaluator;
 use crate::sh::num_coeffs;
 use indicatif::ProgressBar;
@@ -58,68 +59,75 @@ pub fn fibonacci_directions(n: usize) -> Vec<[f64; 3]> {
         .collect()
 }
 
-/// Transfer of every vertex of every object, `[object][vertex]`. Errors: `l_low` below 2
-/// or above 20, `l_high` below `l_low` (other than 0, no high orders), no rays with
-/// shadows on.
-pub fn precompute(scene: &Scene, settings: TransferSettings) -> Result<Vec<Vec<VertexTransfer>>> {
-    precompute_with_progress(scene, settings, &ProgressBar::hidden())
+impl TransferSettings {
+    /// Errors: `l_low` below 2 or above 20, `l_high` below `l_low` (other than 0, no high
+    /// orders), no rays with shadows on.
+    pub fn check(&self) -> Result<()> {
+        let l = self.l_low;
+        if !(2..=20).contains(&l)
+            || (self.shadows && self.rays == 0)
+            || (self.l_high != 0 && self.l_high < l)
+        {
+            return Err(Error::InvalidArgument {
+                name: "transfer settings",
+                value: format!("l_low {l}, l_high {}, {} rays", self.l_high, self.rays),
+                reason: "2 <= l_low <= 20, l_high >= l_low (or 0: no high orders), and rays > 0 \
+                         with shadows"
+                    .into(),
+            });
+        }
+        Ok(())
+    }
 }
 
-/// [`precompute`], advancing `progress` by one per vertex done.
-pub fn precompute_with_progress(
+/// Transfer of every vertex of every object, `[object][vertex]`, with everything computed
+/// ([`Plan::full`]). Errors: as [`TransferSettings::check`].
+pub fn precompute(scene: &Scene, settings: TransferSettings) -> Result<Vec<Vec<VertexTransfer>>> {
+    precompute_planned(scene, &Plan::full(scene, settings)?, &ProgressBar::hidden())
+}
+
+/// The transfer as `plan` says ([`super::plan`]): its Stokes components, its visibility and
+/// its sparse material operators, advancing `progress` by one per vertex done. Error: a plan
+/// of another scene (another number of materials).
+pub fn precompute_planned(
     scene: &Scene,
-    settings: TransferSettings,
+    plan: &Plan,
     progress: &ProgressBar,
 ) -> Result<Vec<Vec<VertexTransfer>>> {
-    let l = settings.l_low;
-    if !(2..=20).contains(&l)
-        || (settings.shadows && settings.rays == 0)
-        || (settings.l_high != 0 && settings.l_high < l)
-    {
-        return Err(Error::InvalidArgument {
-            name: "transfer settings",
-            value: format!(
-                "l_low {l}, l_high {}, {} rays",
-                settings.l_high, settings.rays
-            ),
-            reason: "2 <= l_low <= 20, l_high >= l_low (or 0: no high orders), and rays > 0 \
-                     with shadows"
-                .into(),
-        });
-    }
+    crate::error::check_len(
+        "planned materials",
+        scene.materials().len(),
+        plan.materials.len(),
+    )?;
+    let settings = plan.settings;
+    let (l, codomain) = (settings.l_low, plan.codomain);
     let lv = 2 * l;
-    let dirs = fibonacci_directions(settings.rays.max(1));
+    let rays = plan.visibility == Visibility::Rays;
+    let dirs = fibonacci_directions(if rays { settings.rays } else { 0 });
     let nv = num_coeffs(lv);
     let mut basis = vec![0.0; dirs.len() * nv];
     ShEvaluator::new(lv)?.real_batch(&dirs, &mut basis)?;
-    let table = if settings.shadows {
-        Some(TripleTable::new(lv, l)?)
+    let table = if rays {
+        Some(TripleTable::for_codomain(lv, l, codomain)?)
     } else {
         None
     };
-    let env = scene
-        .environment()
-        .truncated(l)?
-        .with_codomain(Codomain::Full);
-    let materials = scene
-        .materials()
-        .iter()
-        .map(|m| m.matrices(l))
-        .collect::<Result<Vec<_>>>()?;
+    let env = scene.environment().truncated(l)?.with_codomain(codomain);
     let scale = scene.bounding_scale();
     scene
         .objects()
         .iter()
         .map(|o| {
-            let mats = &materials[o.material];
+            let ops = &plan.materials[o.material].operators;
             o.mesh
                 .positions()
                 .par_iter()
                 .zip(o.mesh.normals())
                 .map(|(p, n)| {
                     let rotation = Frame::from_z(*n)?.rotation();
-                    let (visibility, shadowed) = match &table {
-                        Some(t) => {
+                    let to_local = PshRotation::for_codomain(&rotation.inverse(), l, codomain)?;
+                    let (visibility, local) = match (&table, &plan.horizon) {
+                        (Some(t), _) => {
                             let origin: [f64; 3] =
                                 std::array::from_fn(|k| p[k] + 1e-4 * scale * n[k]);
                             let mut v = vec![0.0; nv];
@@ -131,14 +139,16 @@ pub fn precompute_with_progress(
                                     v.iter_mut().zip(y).for_each(|(a, b)| *a += w * b);
                                 }
                             }
-                            let s = t.transfer(&v)?.apply(&env)?;
-                            (v, s)
+                            let local = to_local.rotate(&t.shadow(&v, &env)?)?;
+                            (v, local)
                         }
-                        None => (Vec::new(), env.clone()),
+                        (None, Some(h)) => (Vec::new(), h.apply(&to_local.rotate(&env)?)?),
+                        (None, None) => (Vec::new(), to_local.rotate(&env)?),
                     };
-                    let local = PshRotation::new(&rotation.inverse(), l)?.rotate(&shadowed)?;
-                    let parts = (0..3)
-                        .map(|c| mats[c].apply(&local.channel(c)?))
+                    let parts = ops
+                        .iter()
+                        .enumerate()
+                        .map(|(c, m)| m.apply(&local.channel(c)?))
                         .collect::<Result<Vec<_>>>()?;
                     progress.inc(1);
                     Ok(VertexTransfer {
@@ -157,41 +167,21 @@ pub fn high_order_fields(
     scene: &Scene,
     settings: TransferSettings,
 ) -> Result<Vec<Option<PshVector>>> {
-    Ok(high_orders(scene, settings)?
-        .into_iter()
-        .map(|h| h.map(|x| x.0))
-        .collect())
+    Ok(Plan::full(scene, settings)?.high_fields())
 }
 
 /// The high orders per material ([`super::reflected`]): the environment convolved with
 /// the kernel of the material's reflected pBRDF over the bands `l_low < l <= l_high`
 /// (RGB), and the projection's largest relative residual over the channels; `None` for
-/// every material when `l_high <= l_low`. Error: an environment below `l_high`.
+/// every material when `l_high <= l_low` ([`Plan::full`]). Error: an environment below
+/// `l_high`.
 pub fn high_orders(
     scene: &Scene,
     settings: TransferSettings,
 ) -> Result<Vec<Option<(PshVector, f64)>>> {
-    let (l_low, l_high) = (settings.l_low, settings.l_high);
-    if l_high <= l_low {
-        return Ok(vec![None; scene.materials().len()]);
-    }
-    let env = scene
-        .environment()
-        .truncated(l_high)?
-        .with_codomain(Codomain::Full);
-    scene
-        .materials()
-        .iter()
-        .map(|m| {
-            let mats = m.matrices(l_high)?;
-            let mut parts = Vec::new();
-            let mut worst = 0.0f64;
-            for (c, p) in mats.iter().enumerate() {
-                let (k, residual) = super::reflected::high_order_kernel(p, l_low)?;
-                worst = worst.max(residual);
-                parts.push(k.convolve(&env.channel(c)?)?);
-            }
-            Ok(Some((PshVector::from_channels(&parts)?, worst)))
-        })
-        .collect()
+    Ok(Plan::full(scene, settings)?
+        .materials
+        .into_iter()
+        .map(|m| m.high)
+        .collect())
 }

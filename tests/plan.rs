@@ -1,0 +1,86 @@
+//! The PPRT planner (`psh::pprt::plan`): its decisions on scenes that need less, the
+//! planned render against the full one, and bad input.
+
+use psh::polarized::{Codomain, Sparsity};
+use psh::pprt::plan::{Plan, Visibility};
+use psh::pprt::transfer::{precompute_planned, TransferSettings};
+use psh::verify::{tangent_plane_vs_rays, unpolarized_vs_full};
+
+fn settings(l_low: usize, l_high: usize, rays: usize) -> TransferSettings {
+    TransferSettings {
+        l_low,
+        l_high,
+        rays,
+        shadows: true,
+    }
+}
+
+/// Unpolarized light on depolarizing materials: scalar SH, isotropic storage, rays kept
+/// (four objects occlude each other); the planned transfer carries `s0` alone and the
+/// render equals the full one within the tolerance (the high orders' dropped tail).
+#[test]
+fn unpolarized_scene_plans_scalar_sh() {
+    let scene = psh::pprt::job::builtin_unpolarized_scene(9, 8, 6).unwrap();
+    let plan = Plan::new(&scene, settings(4, 9, 16), 1e-3).unwrap();
+    assert_eq!(plan.codomain, Codomain::Intensity);
+    assert_eq!(plan.visibility, Visibility::Rays);
+    for m in &plan.materials {
+        assert_eq!(m.sparsity, Sparsity::Isotropic);
+        assert!(m.dropped_tail <= 1e-3, "{}", m.dropped_tail);
+        assert!(
+            m.l_high < 9,
+            "a cosine lobe's tail is below 1e-3 before l = 9"
+        );
+    }
+    let t = precompute_planned(&scene, &plan, &indicatif::ProgressBar::hidden()).unwrap();
+    assert!(t
+        .iter()
+        .flatten()
+        .all(|v| v.radiance.codomain() == Codomain::Intensity));
+    let e = unpolarized_vs_full(16).unwrap();
+    assert!(e <= 1e-3, "planned vs full: {e:e}");
+    // Without a tolerance nothing is dropped.
+    let full = Plan::full(&scene, settings(4, 9, 16)).unwrap();
+    assert_eq!(full.codomain, Codomain::Full);
+    assert!(full.materials.iter().all(|m| m.l_high == 9));
+}
+
+/// The polarized built-in scene needs everything but the dense storage.
+#[test]
+fn polarized_scene_keeps_stokes_and_rays() {
+    let scene = psh::pprt::job::builtin_scene(9, 8, 6).unwrap();
+    let plan = Plan::new(&scene, settings(4, 9, 16), 1e-3).unwrap();
+    // Gold turns linear into circular polarization.
+    assert_eq!(plan.codomain, Codomain::Full);
+    assert_eq!(plan.visibility, Visibility::Rays);
+    assert!(plan.reasons.iter().any(|r| r.contains("create circular")));
+}
+
+/// One convex sphere: the tangent plane is the only occluder, the plastic creates no
+/// circular light; the difference from ray-cast visibility is the rays' quadrature error
+/// of the horizon, which falls as the rays grow.
+#[test]
+fn convex_scene_needs_no_rays() {
+    let coarse = tangent_plane_vs_rays(256).unwrap();
+    let fine = tangent_plane_vs_rays(4096).unwrap();
+    assert!(
+        fine < 0.5 * coarse,
+        "256 rays: {coarse:e}, 4096 rays: {fine:e}"
+    );
+    assert!(fine < 5e-3, "{fine:e}");
+}
+
+#[test]
+fn bad_input_is_an_error() {
+    let scene = psh::pprt::job::builtin_unpolarized_scene(9, 8, 6).unwrap();
+    for tol in [0.0, 1.0, f64::NAN, -1e-3] {
+        let e = Plan::new(&scene, settings(4, 9, 16), tol).unwrap_err();
+        assert!(e.to_string().contains("tolerance"), "{e}");
+    }
+    assert!(Plan::new(&scene, settings(1, 9, 16), 1e-3).is_err());
+    // A plan of another scene (another number of materials).
+    let other = psh::verify::plan_convex_scene(6).unwrap();
+    let plan = Plan::full(&other, settings(4, 0, 16)).unwrap();
+    let e = precompute_planned(&scene, &plan, &indicatif::ProgressBar::hidden()).unwrap_err();
+    assert!(e.to_string().contains("materials"), "{e}");
+}
