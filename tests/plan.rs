@@ -84,3 +84,29 @@ fn bad_input_is_an_error() {
     let e = precompute_planned(&scene, &plan, &indicatif::ProgressBar::hidden()).unwrap_err();
     assert!(e.to_string().contains("materials"), "{e}");
 }
+
+/// The example scene files plan as their comments say; a diffuse albedo outside [0, 1] is
+/// an error naming the material.
+#[test]
+fn scene_files_plan_as_documented() {
+    use psh::pprt::scene_file::load_scene;
+    let dir = env!("CARGO_MANIFEST_DIR");
+    let (scene, s) = load_scene(format!("{dir}/scenes/diffuse.toml"), 0).unwrap();
+    let plan = Plan::new(&scene, TransferSettings { rays: 8, ..s }, 1e-3).unwrap();
+    assert_eq!(plan.codomain, Codomain::Intensity);
+    assert_eq!(plan.visibility, Visibility::Rays);
+    let (scene, s) = load_scene(format!("{dir}/scenes/convex.toml"), 0).unwrap();
+    let plan = Plan::new(&scene, s, 1e-3).unwrap();
+    assert_eq!(plan.codomain, Codomain::NoCircular);
+    assert_eq!(plan.visibility, Visibility::TangentPlane);
+    let text = std::fs::read_to_string(format!("{dir}/scenes/diffuse.toml"))
+        .unwrap()
+        .replace("[0.7, 0.15, 0.1]", "[0.7, 1.5, 0.1]");
+    let path = std::env::temp_dir().join("psh-plan-bad-albedo.toml");
+    std::fs::write(&path, text).unwrap();
+    let Err(e) = load_scene(&path, 0) else {
+        panic!("an albedo of 1.5 must be refused");
+    };
+    let e = e.to_string();
+    assert!(e.contains("clay") && e.contains("1.5"), "{e}");
+}

@@ -22,6 +22,7 @@
 //! l_high = 9                   # high orders by convolution (none if <= l_low)
 //! rays = 256
 //! shadows = true
+//! unpolarized_environment = false   # true: the environment's s0 alone (s1..s3 dropped)
 //!
 //! [[material]]
 //! name = "glass"
@@ -122,6 +123,7 @@ struct SettingsSpec {
     l_high: usize,
     rays: usize,
     shadows: bool,
+    unpolarized_environment: bool,
 }
 
 impl Default for SettingsSpec {
@@ -131,6 +133,7 @@ impl Default for SettingsSpec {
             l_high: 9,
             rays: 256,
             shadows: true,
+            unpolarized_environment: false,
         }
     }
 }
@@ -250,6 +253,21 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
             let map = crate::io::exr::read_stokes_map(&resolve(p)?.to_string_lossy())?;
             EnvironmentSource::Coefficients(turn(&map.project(Codomain::Full, source_lmax)?, *up)?)
         }
+    };
+    // Unpolarized: the intensity alone, for the reference too.
+    let source = if spec.settings.unpolarized_environment {
+        let v = match source {
+            EnvironmentSource::Sky(sky) => sky
+                .project(source_lmax)
+                .map_err(|e| field("environment", e))?,
+            EnvironmentSource::Coefficients(v) => v,
+        };
+        EnvironmentSource::Coefficients(
+            v.with_codomain(Codomain::Intensity)
+                .with_codomain(Codomain::Full),
+        )
+    } else {
+        source
     };
     let environment = match &source {
         EnvironmentSource::Sky(sky) => sky.project(lmax),
