@@ -12,7 +12,7 @@ use nalgebra::Vector3;
 use psh::pprt::plan::Plan;
 use psh::pprt::render::{background, primary_hits, render_frame};
 use psh::pprt::scene::{Hit, Scene};
-use psh::pprt::transfer::{fibonacci_directions, precompute_planned, TransferSettings};
+use psh::pprt::transfer::{precompute_planned, ray_visibility, TransferSettings, VisibilityRays};
 use psh::sh::gaunt::{GauntBasis, GauntTable};
 use psh::sh::harmonics::{direction_angles, ShEvaluator};
 use psh::sh::num_coeffs;
@@ -33,13 +33,8 @@ const SETTINGS: TransferSettings = TransferSettings {
 /// interpolates. Returns `s0` per pixel and channel.
 fn scalar_only(scene: &Scene, blocks: &[Vec<Vec<f64>>], hits: &[Option<Hit>]) -> Vec<[f64; 3]> {
     let l = SETTINGS.l_low;
-    let (n, nv) = (num_coeffs(l), num_coeffs(2 * l));
-    let dirs = fibonacci_directions(SETTINGS.rays);
-    let mut basis = vec![0.0; dirs.len() * nv];
-    ShEvaluator::new(2 * l)
-        .unwrap()
-        .real_batch(&dirs, &mut basis)
-        .unwrap();
+    let n = num_coeffs(l);
+    let rays = VisibilityRays::new(SETTINGS.rays, 2 * l).unwrap();
     let gaunt = GauntTable::new(GauntBasis::Real, 2 * l, l, l).unwrap();
     let env = scene.environment();
     let env0: Vec<Vec<f64>> = (0..3)
@@ -52,7 +47,6 @@ fn scalar_only(scene: &Scene, blocks: &[Vec<Vec<f64>>], hits: &[Option<Hit>]) ->
                 .collect()
         })
         .collect();
-    let scale = scene.bounding_scale();
     let eye = Vector3::from(scene.camera().position);
     let eval = ShEvaluator::new(l).unwrap();
     let vertex_s0: Vec<Vec<[f64; 3]>> = scene
@@ -65,15 +59,7 @@ fn scalar_only(scene: &Scene, blocks: &[Vec<Vec<f64>>], hits: &[Option<Hit>]) ->
                 .par_iter()
                 .zip(o.mesh.normals())
                 .map(|(p, nrm)| {
-                    let origin: [f64; 3] = std::array::from_fn(|k| p[k] + 1e-4 * scale * nrm[k]);
-                    let mut v = vec![0.0; nv];
-                    let w = 4.0 * std::f64::consts::PI / dirs.len() as f64;
-                    for (d, y) in dirs.iter().zip(basis.chunks_exact(nv)) {
-                        let above = d[0] * nrm[0] + d[1] * nrm[1] + d[2] * nrm[2] > 0.0;
-                        if above && !scene.occluded(origin, *d, 0.0) {
-                            v.iter_mut().zip(y).for_each(|(a, b)| *a += w * b);
-                        }
-                    }
+                    let v = ray_visibility(scene, *p, *nrm, &rays).unwrap();
                     let rotation = psh::geometry::frame::Frame::from_z(*nrm)
                         .unwrap()
                         .rotation();

@@ -80,6 +80,57 @@ impl TransferSettings {
     }
 }
 
+/// The visibility rays of the transfer: `n` Fibonacci directions and their real SH of
+/// degree `<= lv`, built once per precomputation.
+#[derive(Clone, Debug)]
+pub struct VisibilityRays {
+    lv: usize,
+    dirs: Vec<[f64; 3]>,
+    /// `[direction][l*l + l + m]`.
+    basis: Vec<f64>,
+}
+
+impl VisibilityRays {
+    /// `n` directions, SH to degree `lv`. Error: `lv` out of range.
+    pub fn new(n: usize, lv: usize) -> Result<Self> {
+        let dirs = fibonacci_directions(n);
+        let mut basis = vec![0.0; dirs.len() * num_coeffs(lv)];
+        ShEvaluator::new(lv)?.real_batch(&dirs, &mut basis)?;
+        Ok(Self { lv, dirs, basis })
+    }
+}
+
+/// The real SH coefficients (`l <= lv`) of the visibility at the point `p` of unit normal
+/// `n`: the equal-weight (`4 pi / n`) quadrature over the rays, a ray counting when it
+/// leaves above the tangent plane (below, the surface itself occludes) from `p` offset by
+/// `1e-4` of the scene's size along `n`, and hits nothing. Error: no rays.
+pub fn ray_visibility(
+    scene: &Scene,
+    p: [f64; 3],
+    n: [f64; 3],
+    rays: &VisibilityRays,
+) -> Result<Vec<f64>> {
+    if rays.dirs.is_empty() {
+        return Err(Error::InvalidArgument {
+            name: "visibility rays",
+            value: "0".into(),
+            reason: "at least one ray".into(),
+        });
+    }
+    let nv = num_coeffs(rays.lv);
+    let scale = scene.bounding_scale();
+    let origin: [f64; 3] = std::array::from_fn(|k| p[k] + 1e-4 * scale * n[k]);
+    let mut v = vec![0.0; nv];
+    let w = 4.0 * std::f64::consts::PI / rays.dirs.len() as f64;
+    for (d, y) in rays.dirs.iter().zip(rays.basis.chunks_exact(nv)) {
+        let above = d[0] * n[0] + d[1] * n[1] + d[2] * n[2] > 0.0;
+        if above && !scene.occluded(origin, *d, 0.0) {
+            v.iter_mut().zip(y).for_each(|(a, b)| *a += w * b);
+        }
+    }
+    Ok(v)
+}
+
 /// Transfer of every vertex of every object, `[object][vertex]`, with everything computed
 /// ([`Plan::full`]). Errors: as [`TransferSettings::check`].
 pub fn precompute(scene: &Scene, settings: TransferSettings) -> Result<Vec<Vec<VertexTransfer>>> {
@@ -102,18 +153,20 @@ pub fn precompute_planned(
     let settings = plan.settings;
     let (l, codomain) = (settings.l_low, plan.codomain);
     let lv = 2 * l;
-    let rays = plan.visibility == Visibility::Rays;
-    let dirs = fibonacci_directions(if rays { settings.rays } else { 0 });
-    let nv = num_coeffs(lv);
-    let mut basis = vec![0.0; dirs.len() * nv];
-    ShEvaluator::new(lv)?.real_batch(&dirs, &mut basis)?;
-    let table = if rays {
+    let rays = VisibilityRays::new(
+        if plan.visibility == Visibility::Rays {
+            settings.rays
+        } else {
+            0
+        },
+        lv,
+    )?;
+    let table = if plan.visibility == Visibility::Rays {
         Some(TripleTable::for_codomain(lv, l, codomain)?)
     } else {
         None
     };
     let env = scene.environment().truncated(l)?.with_codomain(codomain);
-    let scale = scene.bounding_scale();
     scene
         .objects()
         .iter()
@@ -128,17 +181,7 @@ pub fn precompute_planned(
                     let to_local = PshRotation::for_codomain(&rotation.inverse(), l, codomain)?;
                     let (visibility, local) = match (&table, &plan.horizon) {
                         (Some(t), _) => {
-                            let origin: [f64; 3] =
-                                std::array::from_fn(|k| p[k] + 1e-4 * scale * n[k]);
-                            let mut v = vec![0.0; nv];
-                            let w = 4.0 * std::f64::consts::PI / dirs.len() as f64;
-                            for (d, y) in dirs.iter().zip(basis.chunks_exact(nv)) {
-                                // Below the tangent plane the surface itself occludes.
-                                let above = d[0] * n[0] + d[1] * n[1] + d[2] * n[2] > 0.0;
-                                if above && !scene.occluded(origin, *d, 0.0) {
-                                    v.iter_mut().zip(y).for_each(|(a, b)| *a += w * b);
-                                }
-                            }
+                            let v = ray_visibility(scene, *p, *n, &rays)?;
                             let local = to_local.rotate(&t.shadow(&v, &env)?)?;
                             (v, local)
                         }
