@@ -76,9 +76,11 @@ impl PolygonalLight {
         if (0..nv).any(|i| norm(edge(i)) == 0.0) {
             return Err(invalid(show(), "degenerate: a repeated vertex".into()));
         }
-        // Newell's normal: twice the vector area.
+        // Newell's normal: twice the vector area, from the vertices relative to the
+        // first one (absolute positions would cancel to `eps |v|^2 / area`).
+        let rel: Vec<[f64; 3]> = vertices.iter().map(|v| sub(*v, vertices[0])).collect();
         let area2 = (0..nv).fold([0.0; 3], |acc, i| {
-            let c = cross(vertices[i], vertices[(i + 1) % nv]);
+            let c = cross(rel[i], rel[(i + 1) % nv]);
             [acc[0] + c[0], acc[1] + c[1], acc[2] + c[2]]
         });
         let a2 = norm(area2);

@@ -28,11 +28,17 @@ const MAX_DEPTH: u32 = 14;
 
 type Triangle = [[f64; 3]; 3];
 
+/// A triangle as an anchor (relative to `x`) and its vertices relative to the anchor:
+/// subdividing the small offsets keeps the pieces an exact tiling to `eps` of the
+/// triangle's size, where midpoints of positions far from the anchor would misplace the
+/// pieces' vertices by `eps |p|` (a relative error `eps |p| / size` of a small light).
+type Anchored = ([f64; 3], Triangle);
+
 /// Adds `sum_k w_k g(d_k)` over nodes `d_k` (relative to `x`) with weights `w_k`.
 type Integrand<'a> = dyn Fn(&[[f64; 3]], &[f64], &mut [f64]) -> Result<()> + 'a;
 
 /// Nodes `d` (relative to `x`) and weights (with the Jacobian) of the rule on `t`.
-fn rule(gl: &GaussLegendre, t: &Triangle) -> (Vec<[f64; 3]>, Vec<f64>) {
+fn rule(gl: &GaussLegendre, (anchor, t): &Anchored) -> (Vec<[f64; 3]>, Vec<f64>) {
     let [p0, p1, p2] = *t;
     let e1: [f64; 3] = std::array::from_fn(|i| p1[i] - p0[i]);
     let e2: [f64; 3] = std::array::from_fn(|i| p2[i] - p1[i]);
@@ -43,7 +49,9 @@ fn rule(gl: &GaussLegendre, t: &Triangle) -> (Vec<[f64; 3]>, Vec<f64>) {
         let u = 0.5 * (1.0 + xu);
         for (xv, wv) in gl.cos_theta.iter().zip(&gl.weights) {
             let v = 0.5 * (1.0 + xv);
-            nodes.push(std::array::from_fn(|i| p0[i] + u * e1[i] + u * v * e2[i]));
+            nodes.push(std::array::from_fn(|i| {
+                anchor[i] + (p0[i] + u * e1[i] + u * v * e2[i])
+            }));
             weights.push(0.25 * wu * wv * u * area2);
         }
     }
@@ -53,7 +61,7 @@ fn rule(gl: &GaussLegendre, t: &Triangle) -> (Vec<[f64; 3]>, Vec<f64>) {
 /// One triangle of the adaptive partition: its estimate (the sum over its four halves)
 /// and the error estimate (the change from the whole-triangle rule).
 struct Piece {
-    triangle: Triangle,
+    triangle: Anchored,
     value: Vec<f64>,
     error: f64,
     depth: u32,
@@ -63,15 +71,15 @@ struct Piece {
 /// `len`) over the triangles: the piece of largest error estimate is split into four
 /// until the estimates sum to at most `tol` times the largest component of the first
 /// estimate (a relative tolerance).
-fn integrate(triangles: &[Triangle], len: usize, tol: f64, f: &Integrand) -> Result<Vec<f64>> {
+fn integrate(triangles: &[Anchored], len: usize, tol: f64, f: &Integrand) -> Result<Vec<f64>> {
     let gl = GaussLegendre::new(NODES)?;
-    let estimate = |t: &Triangle| -> Result<Vec<f64>> {
+    let estimate = |t: &Anchored| -> Result<Vec<f64>> {
         let (nodes, weights) = rule(&gl, t);
         let mut out = vec![0.0; len];
         f(&nodes, &weights, &mut out)?;
         Ok(out)
     };
-    let piece = |t: Triangle, whole: &[f64], depth: u32| -> Result<Piece> {
+    let piece = |t: Anchored, whole: &[f64], depth: u32| -> Result<Piece> {
         let value = quarters(&t)
             .iter()
             .map(estimate)
@@ -135,30 +143,34 @@ fn integrate(triangles: &[Triangle], len: usize, tol: f64, f: &Integrand) -> Res
     }))
 }
 
-/// The four halves-of-edges subtriangles of `t`.
-fn quarters(t: &Triangle) -> [Triangle; 4] {
+/// The four halves-of-edges subtriangles of `t` (same anchor).
+fn quarters(&(anchor, t): &Anchored) -> [Anchored; 4] {
     let m: [[f64; 3]; 3] = std::array::from_fn(|k| {
         let (a, b) = (t[k], t[(k + 1) % 3]);
         std::array::from_fn(|i| 0.5 * (a[i] + b[i]))
     });
     [
-        [t[0], m[0], m[2]],
-        [m[0], t[1], m[1]],
-        [m[2], m[1], t[2]],
-        [m[0], m[1], m[2]],
+        (anchor, [t[0], m[0], m[2]]),
+        (anchor, [m[0], t[1], m[1]]),
+        (anchor, [m[2], m[1], t[2]]),
+        (anchor, [m[0], m[1], m[2]]),
     ]
 }
 
-/// The fan triangles of `light` seen from `x` (relative positions), clipped to the
-/// horizon when given.
+/// The fan triangles of `light` seen from `x`, clipped to the horizon when given,
+/// anchored at the fan's apex (relative to `x`).
 fn triangles(
     light: &PolygonalLight,
     x: [f64; 3],
     horizon: Option<[f64; 3]>,
-) -> Result<Vec<Triangle>> {
+) -> Result<Vec<Anchored>> {
     let p = light.seen_from(x, horizon)?;
+    let Some(&(apex, _)) = p.first() else {
+        return Ok(Vec::new());
+    };
+    let local = |q: [f64; 3]| std::array::from_fn(|i| q[i] - apex[i]);
     Ok((1..p.len().saturating_sub(1))
-        .map(|i| [p[0].0, p[i].0, p[i + 1].0])
+        .map(|i| (apex, [[0.0; 3], local(p[i].0), local(p[i + 1].0)]))
         .collect())
 }
 
