@@ -6,7 +6,9 @@ use proptest::prelude::*;
 use psh::lights::polygon::boundary::triangle_solid_angle;
 use psh::lights::polygon::{reference, PolygonalLight, PolygonalLights};
 use psh::lights::spherical::Order;
-use psh::verify::polygon::{coefficient_errors, gradient_fd_errors, gradient_quadrature_errors};
+use psh::verify::polygon::{
+    coefficient_errors, gradient_fd_errors, gradient_quadrature_errors, switch_errors,
+};
 use std::f64::consts::PI;
 
 /// The per-case errors behind `psh verify --filter polygon`, for the record.
@@ -15,12 +17,31 @@ fn per_case_errors() {
     for (name, abs, rel) in coefficient_errors().unwrap() {
         println!("coefficients  {name:<45} abs {abs:.2e} rel {rel:.2e}");
         assert!(abs < 1e-12, "{name}");
+        // Small lights by the area rule: relative accuracy too.
+        assert!(!name.starts_with("small") || rel < 1e-14, "{name}");
     }
     for (name, rel) in gradient_quadrature_errors().unwrap() {
         println!("grad vs quad  {name:<45} rel {rel:.2e}");
+        assert!(!name.starts_with("small") || rel < 1e-14, "{name}");
     }
     for (name, rel) in gradient_fd_errors().unwrap() {
         println!("grad vs FD    {name:<45} rel {rel:.2e}");
+    }
+}
+
+/// At the small-light switch (`proofs/small-polygon-lights.md`): just inside, the fixed
+/// 12x12 area rule agrees with the adaptive quadrature to rounding (its truncation error
+/// is far below it); just outside, the boundary method stays within 1e-12 relative.
+#[test]
+fn small_light_switch() {
+    for inside in [true, false] {
+        for (lmax, tilt, rel, rel_g) in switch_errors(inside).unwrap() {
+            println!(
+                "inside {inside:<5} l <= {lmax:<2} tilt {tilt:>2}: coefficients {rel:.1e}, gradients {rel_g:.1e}"
+            );
+            let tol = if inside { 1e-14 } else { 1e-12 };
+            assert!(rel < tol && rel_g < tol, "{inside} {lmax} {tilt}");
+        }
     }
 }
 

@@ -6,6 +6,8 @@
 //! - [`boundary`]: the per-edge recurrences for the zonal integrals and the Reynolds
 //!   boundary terms;
 //! - [`clip`]: clipping against the horizon of a shading point;
+//! - [`cubature`]: SHG (4) as an area integral by Gauss-Legendre rules on the planar
+//!   light, for small lights (where the boundary sums cancel) and for the reference;
 //! - [`reference`]: adaptive quadrature over the planar light, the independent oracle;
 //! - [`scene`]: a procedural many-light scene for the demo.
 //!
@@ -16,6 +18,7 @@
 
 pub mod boundary;
 pub mod clip;
+pub mod cubature;
 pub mod reference;
 pub mod scene;
 pub mod zonal_factorization;
@@ -25,6 +28,7 @@ use crate::lights::spherical::{LightField, Order};
 use crate::sh::num_coeffs;
 use boundary::{cross, dot, norm, triangle_solid_angle, Arc};
 use clip::{clip_to_horizon, ClippedPolygon};
+use cubature::{is_small, SmallLights};
 use zonal_factorization::ZonalFactorization;
 
 /// Relative tolerance of the planarity and convexity checks and of "on the plane".
@@ -201,6 +205,7 @@ pub fn spherical_polygon(polygon: &ClippedPolygon) -> (Vec<Arc>, f64) {
 pub struct PolygonalLights {
     lights: Vec<PolygonalLight>,
     factorization: ZonalFactorization,
+    small: SmallLights,
     horizon: Option<[f64; 3]>,
 }
 
@@ -210,6 +215,7 @@ impl PolygonalLights {
         Ok(Self {
             lights,
             factorization: ZonalFactorization::new(lmax)?,
+            small: SmallLights::new(lmax)?,
             horizon: None,
         })
     }
@@ -240,8 +246,10 @@ impl PolygonalLights {
     }
 
     /// The summed light field at `x`: coefficients SHG (4)-(5) and, for
-    /// [`Order::Gradients`], their gradients in `x` (SHG (6), (11), (15)). Hessians are
-    /// not derived for polygonal lights: [`Order::Hessians`] is an error.
+    /// [`Order::Gradients`], their gradients in `x` (SHG (6), (11), (15)); lights small
+    /// for the band limit ([`cubature::SMALL_LIGHT`]) by the fixed area rule of
+    /// [`SmallLights`] instead. Hessians are not derived for polygonal lights:
+    /// [`Order::Hessians`] is an error.
     pub fn field(&self, x: [f64; 3], order: Order) -> Result<LightField> {
         if order == Order::Hessians {
             return Err(Error::InvalidArgument {
@@ -261,8 +269,18 @@ impl PolygonalLights {
         let mut gz = vec![vec![0.0; nz]; if grads { 3 } else { 0 }];
         let mut d = vec![0.0; stride];
         let mut u = vec![0.0; stride];
+        let n = num_coeffs(f.lmax());
+        // The small lights' coefficients and gradients (flat, `3 (lm) + i`).
+        let mut coefficients = vec![0.0; n];
+        let mut small_gradients = vec![0.0; if grads { 3 * n } else { 0 }];
         for light in &self.lights {
-            let (arcs, omega) = spherical_polygon(&light.seen_from(x, self.horizon)?);
+            let polygon = light.seen_from(x, self.horizon)?;
+            if is_small(&polygon, f.lmax()) {
+                let g = grads.then_some(&mut small_gradients[..]);
+                self.small.add(light, &polygon, &mut coefficients, g)?;
+                continue;
+            }
+            let (arcs, omega) = spherical_polygon(&polygon);
             if arcs.is_empty() {
                 continue;
             }
@@ -289,8 +307,6 @@ impl PolygonalLights {
                 }
             }
         }
-        let n = num_coeffs(f.lmax());
-        let mut coefficients = vec![0.0; n];
         f.combine(&z, &mut coefficients);
         let mut gradients = Vec::new();
         if grads {
@@ -299,8 +315,8 @@ impl PolygonalLights {
             for (c, g) in gz.iter().enumerate() {
                 tmp.fill(0.0);
                 f.combine(g, &mut tmp);
-                for (o, t) in gradients.iter_mut().zip(&tmp) {
-                    o[c] = *t;
+                for (k, (o, t)) in gradients.iter_mut().zip(&tmp).enumerate() {
+                    o[c] = small_gradients[3 * k + c] + t;
                 }
             }
         }
