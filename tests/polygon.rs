@@ -3,9 +3,12 @@
 
 use nalgebra::{Rotation3, Vector3};
 use proptest::prelude::*;
-use psh::lights::polygon::{PolygonalLight, PolygonalLights};
+use psh::lights::polygon::boundary::triangle_solid_angle;
+use psh::lights::polygon::{reference, PolygonalLight, PolygonalLights};
 use psh::lights::spherical::Order;
-use psh::verify::polygon::{coefficient_errors, gradient_fd_errors, gradient_quadrature_errors};
+use psh::verify::polygon::{
+    coefficient_errors, gradient_fd_errors, gradient_quadrature_errors, switch_errors,
+};
 use std::f64::consts::PI;
 
 /// The per-case errors behind `psh verify --filter polygon`, for the record.
@@ -14,12 +17,56 @@ fn per_case_errors() {
     for (name, abs, rel) in coefficient_errors().unwrap() {
         println!("coefficients  {name:<45} abs {abs:.2e} rel {rel:.2e}");
         assert!(abs < 1e-12, "{name}");
+        // Small lights by the area rule: relative accuracy too.
+        assert!(!name.starts_with("small") || rel < 1e-14, "{name}");
     }
     for (name, rel) in gradient_quadrature_errors().unwrap() {
         println!("grad vs quad  {name:<45} rel {rel:.2e}");
+        assert!(!name.starts_with("small") || rel < 1e-14, "{name}");
     }
     for (name, rel) in gradient_fd_errors().unwrap() {
         println!("grad vs FD    {name:<45} rel {rel:.2e}");
+    }
+}
+
+/// At the small-light switch (`proofs/small-polygon-lights.md`): just inside, the fixed
+/// 12x12 area rule agrees with the adaptive quadrature to rounding (its truncation error
+/// is far below it); just outside, the boundary method stays within 1e-12 relative.
+#[test]
+fn small_light_switch() {
+    for inside in [true, false] {
+        for (lmax, tilt, rel, rel_g) in switch_errors(inside).unwrap() {
+            println!(
+                "inside {inside:<5} l <= {lmax:<2} tilt {tilt:>2}: coefficients {rel:.1e}, gradients {rel_g:.1e}"
+            );
+            let tol = if inside { 1e-14 } else { 1e-12 };
+            assert!(rel < tol && rel_g < tol, "{inside} {lmax} {tilt}");
+        }
+    }
+}
+
+/// The reference quadrature keeps the relative precision of a small light far from the
+/// origin: its `L_00` is the solid angle (Van Oosterom-Strackee from the edges, exact to
+/// rounding) over `2 sqrt(pi)` to 2e-15 (measured at most 1.0e-15), for triangles of edges 1e-3 to 1e-5 at distance
+/// 1 (Newell's normal from absolute positions, or midpoints of absolute positions in the
+/// subdivision, lost `eps / T`: 1.5e-11 at 1e-3).
+#[test]
+fn reference_l0_of_small_lights() {
+    let base = [[0.3, 0.2, 0.9], [0.301, 0.2, 0.9], [0.3, 0.2008, 0.9005]];
+    for scale in [1.0, 0.1, 0.01] {
+        let v: Vec<[f64; 3]> = base
+            .iter()
+            .map(|p| std::array::from_fn(|i| base[0][i] + scale * (p[i] - base[0][i])))
+            .collect();
+        let light = PolygonalLight::new(v.clone(), 1.0).unwrap();
+        let want = triangle_solid_angle(v[0], v[1], v[2]).abs() / (2.0 * PI.sqrt());
+        let got = reference::coefficients(&light, [0.0; 3], None, 2, 1e-13).unwrap()[0];
+        println!(
+            "edges {:.0e}: L_00 relative error {:.1e}",
+            1e-3 * scale,
+            got / want - 1.0
+        );
+        assert!((got / want - 1.0).abs() < 2e-15, "scale {scale}");
     }
 }
 

@@ -6,6 +6,8 @@
 //! - [`boundary`]: the per-edge recurrences for the zonal integrals and the Reynolds
 //!   boundary terms;
 //! - [`clip`]: clipping against the horizon of a shading point;
+//! - [`cubature`]: SHG (4) as an area integral by Gauss-Legendre rules on the planar
+//!   light, for small lights (where the boundary sums cancel) and for the reference;
 //! - [`reference`]: adaptive quadrature over the planar light, the independent oracle;
 //! - [`scene`]: a procedural many-light scene for the demo.
 //!
@@ -16,6 +18,7 @@
 
 pub mod boundary;
 pub mod clip;
+pub mod cubature;
 pub mod reference;
 pub mod scene;
 pub mod zonal_factorization;
@@ -25,6 +28,7 @@ use crate::lights::spherical::{LightField, Order};
 use crate::sh::num_coeffs;
 use boundary::{cross, dot, norm, triangle_solid_angle, Arc};
 use clip::{clip_to_horizon, ClippedPolygon};
+use cubature::{is_small, SmallLights};
 use zonal_factorization::ZonalFactorization;
 
 /// Relative tolerance of the planarity and convexity checks and of "on the plane".
@@ -76,9 +80,11 @@ impl PolygonalLight {
         if (0..nv).any(|i| norm(edge(i)) == 0.0) {
             return Err(invalid(show(), "degenerate: a repeated vertex".into()));
         }
-        // Newell's normal: twice the vector area.
+        // Newell's normal: twice the vector area, from the vertices relative to the
+        // first one (absolute positions would cancel to `eps |v|^2 / area`).
+        let rel: Vec<[f64; 3]> = vertices.iter().map(|v| sub(*v, vertices[0])).collect();
         let area2 = (0..nv).fold([0.0; 3], |acc, i| {
-            let c = cross(vertices[i], vertices[(i + 1) % nv]);
+            let c = cross(rel[i], rel[(i + 1) % nv]);
             [acc[0] + c[0], acc[1] + c[1], acc[2] + c[2]]
         });
         let a2 = norm(area2);
@@ -199,6 +205,7 @@ pub fn spherical_polygon(polygon: &ClippedPolygon) -> (Vec<Arc>, f64) {
 pub struct PolygonalLights {
     lights: Vec<PolygonalLight>,
     factorization: ZonalFactorization,
+    small: SmallLights,
     horizon: Option<[f64; 3]>,
 }
 
@@ -208,6 +215,7 @@ impl PolygonalLights {
         Ok(Self {
             lights,
             factorization: ZonalFactorization::new(lmax)?,
+            small: SmallLights::new(lmax)?,
             horizon: None,
         })
     }
@@ -238,8 +246,10 @@ impl PolygonalLights {
     }
 
     /// The summed light field at `x`: coefficients SHG (4)-(5) and, for
-    /// [`Order::Gradients`], their gradients in `x` (SHG (6), (11), (15)). Hessians are
-    /// not derived for polygonal lights: [`Order::Hessians`] is an error.
+    /// [`Order::Gradients`], their gradients in `x` (SHG (6), (11), (15)); lights small
+    /// for the band limit ([`cubature::SMALL_LIGHT`]) by the fixed area rule of
+    /// [`SmallLights`] instead. Hessians are not derived for polygonal lights:
+    /// [`Order::Hessians`] is an error.
     pub fn field(&self, x: [f64; 3], order: Order) -> Result<LightField> {
         if order == Order::Hessians {
             return Err(Error::InvalidArgument {
@@ -259,8 +269,18 @@ impl PolygonalLights {
         let mut gz = vec![vec![0.0; nz]; if grads { 3 } else { 0 }];
         let mut d = vec![0.0; stride];
         let mut u = vec![0.0; stride];
+        let n = num_coeffs(f.lmax());
+        // The small lights' coefficients and gradients (flat, `3 (lm) + i`).
+        let mut coefficients = vec![0.0; n];
+        let mut small_gradients = vec![0.0; if grads { 3 * n } else { 0 }];
         for light in &self.lights {
-            let (arcs, omega) = spherical_polygon(&light.seen_from(x, self.horizon)?);
+            let polygon = light.seen_from(x, self.horizon)?;
+            if is_small(&polygon, f.lmax()) {
+                let g = grads.then_some(&mut small_gradients[..]);
+                self.small.add(light, &polygon, &mut coefficients, g)?;
+                continue;
+            }
+            let (arcs, omega) = spherical_polygon(&polygon);
             if arcs.is_empty() {
                 continue;
             }
@@ -287,8 +307,6 @@ impl PolygonalLights {
                 }
             }
         }
-        let n = num_coeffs(f.lmax());
-        let mut coefficients = vec![0.0; n];
         f.combine(&z, &mut coefficients);
         let mut gradients = Vec::new();
         if grads {
@@ -297,8 +315,8 @@ impl PolygonalLights {
             for (c, g) in gz.iter().enumerate() {
                 tmp.fill(0.0);
                 f.combine(g, &mut tmp);
-                for (o, t) in gradients.iter_mut().zip(&tmp) {
-                    o[c] = *t;
+                for (k, (o, t)) in gradients.iter_mut().zip(&tmp).enumerate() {
+                    o[c] = small_gradients[3 * k + c] + t;
                 }
             }
         }

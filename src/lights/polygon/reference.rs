@@ -2,16 +2,15 @@
 //! adaptive quadrature over the planar light itself, independent of the spherical
 //! polygon and of the boundary recurrences.
 //!
-//! Seen from `x`, the area element `dA` at `y` subtends `dw = |N . d| / |d|^3 dA`,
-//! `d = y - x`, so `L_lm(x) = E int_A Y_lm(d/|d|) |N . d| / |d|^3 dA` (SHG (4)). The
-//! polygon (clipped to the horizon when asked) is fan-triangulated; each triangle is
-//! integrated with a tensor Gauss-Legendre rule on the collapsed square and split into
-//! four at its edge midpoints, largest error first, until the error estimates (the
-//! change from a triangle's rule to the sum over its four parts) sum below the tolerance. The gradient differentiates the integrand in `x`
-//! over the fixed domain `A` (the parameterization of Annen et al., SHG Sec. 4.2
-//! "Discussion"), so it checks the Reynolds boundary form independently.
+//! The integrand is that of [`super::cubature`] (SHG (4) over the planar light; the
+//! gradient over the fixed domain, Annen et al., SHG Sec. 4.2 "Discussion"), so the
+//! gradient checks the Reynolds boundary form independently. The polygon (clipped to
+//! the horizon when asked) is fan-triangulated; each triangle is integrated with the
+//! 12x12 collapsed-square rule [`super::cubature::rule`] and split into four at its edge
+//! midpoints, largest error first, until the error estimates (the change from a
+//! triangle's rule to the sum over its four parts) sum below the tolerance.
 
-use super::boundary::{cross, dot, norm};
+use super::cubature::{add_gradients, add_values, fan, rule, Anchored};
 use super::PolygonalLight;
 use crate::error::{Error, Result};
 use crate::sh::grid::GaussLegendre;
@@ -26,34 +25,13 @@ const ROUNDING: f64 = 1e-14;
 /// Deepest subdivision.
 const MAX_DEPTH: u32 = 14;
 
-type Triangle = [[f64; 3]; 3];
-
 /// Adds `sum_k w_k g(d_k)` over nodes `d_k` (relative to `x`) with weights `w_k`.
 type Integrand<'a> = dyn Fn(&[[f64; 3]], &[f64], &mut [f64]) -> Result<()> + 'a;
-
-/// Nodes `d` (relative to `x`) and weights (with the Jacobian) of the rule on `t`.
-fn rule(gl: &GaussLegendre, t: &Triangle) -> (Vec<[f64; 3]>, Vec<f64>) {
-    let [p0, p1, p2] = *t;
-    let e1: [f64; 3] = std::array::from_fn(|i| p1[i] - p0[i]);
-    let e2: [f64; 3] = std::array::from_fn(|i| p2[i] - p1[i]);
-    let area2 = norm(cross(e1, e2));
-    let mut nodes = Vec::with_capacity(gl.len() * gl.len());
-    let mut weights = Vec::with_capacity(gl.len() * gl.len());
-    for (xu, wu) in gl.cos_theta.iter().zip(&gl.weights) {
-        let u = 0.5 * (1.0 + xu);
-        for (xv, wv) in gl.cos_theta.iter().zip(&gl.weights) {
-            let v = 0.5 * (1.0 + xv);
-            nodes.push(std::array::from_fn(|i| p0[i] + u * e1[i] + u * v * e2[i]));
-            weights.push(0.25 * wu * wv * u * area2);
-        }
-    }
-    (nodes, weights)
-}
 
 /// One triangle of the adaptive partition: its estimate (the sum over its four halves)
 /// and the error estimate (the change from the whole-triangle rule).
 struct Piece {
-    triangle: Triangle,
+    triangle: Anchored,
     value: Vec<f64>,
     error: f64,
     depth: u32,
@@ -63,15 +41,15 @@ struct Piece {
 /// `len`) over the triangles: the piece of largest error estimate is split into four
 /// until the estimates sum to at most `tol` times the largest component of the first
 /// estimate (a relative tolerance).
-fn integrate(triangles: &[Triangle], len: usize, tol: f64, f: &Integrand) -> Result<Vec<f64>> {
+fn integrate(triangles: &[Anchored], len: usize, tol: f64, f: &Integrand) -> Result<Vec<f64>> {
     let gl = GaussLegendre::new(NODES)?;
-    let estimate = |t: &Triangle| -> Result<Vec<f64>> {
+    let estimate = |t: &Anchored| -> Result<Vec<f64>> {
         let (nodes, weights) = rule(&gl, t);
         let mut out = vec![0.0; len];
         f(&nodes, &weights, &mut out)?;
         Ok(out)
     };
-    let piece = |t: Triangle, whole: &[f64], depth: u32| -> Result<Piece> {
+    let piece = |t: Anchored, whole: &[f64], depth: u32| -> Result<Piece> {
         let value = quarters(&t)
             .iter()
             .map(estimate)
@@ -135,31 +113,28 @@ fn integrate(triangles: &[Triangle], len: usize, tol: f64, f: &Integrand) -> Res
     }))
 }
 
-/// The four halves-of-edges subtriangles of `t`.
-fn quarters(t: &Triangle) -> [Triangle; 4] {
+/// The four halves-of-edges subtriangles of `t` (same anchor).
+fn quarters(&(anchor, t): &Anchored) -> [Anchored; 4] {
     let m: [[f64; 3]; 3] = std::array::from_fn(|k| {
         let (a, b) = (t[k], t[(k + 1) % 3]);
         std::array::from_fn(|i| 0.5 * (a[i] + b[i]))
     });
     [
-        [t[0], m[0], m[2]],
-        [m[0], t[1], m[1]],
-        [m[2], m[1], t[2]],
-        [m[0], m[1], m[2]],
+        (anchor, [t[0], m[0], m[2]]),
+        (anchor, [m[0], t[1], m[1]]),
+        (anchor, [m[2], m[1], t[2]]),
+        (anchor, [m[0], m[1], m[2]]),
     ]
 }
 
-/// The fan triangles of `light` seen from `x` (relative positions), clipped to the
-/// horizon when given.
+/// The anchored fan triangles of `light` seen from `x`, clipped to the horizon when
+/// given.
 fn triangles(
     light: &PolygonalLight,
     x: [f64; 3],
     horizon: Option<[f64; 3]>,
-) -> Result<Vec<Triangle>> {
-    let p = light.seen_from(x, horizon)?;
-    Ok((1..p.len().saturating_sub(1))
-        .map(|i| [p[0].0, p[i].0, p[i + 1].0])
-        .collect())
+) -> Result<Vec<Anchored>> {
+    Ok(fan(&light.seen_from(x, horizon)?))
 }
 
 /// `L_lm(x)`, `l <= lmax`, by adaptive quadrature to the relative tolerance `tol`.
@@ -172,20 +147,8 @@ pub fn coefficients(
 ) -> Result<Vec<f64>> {
     let ev = ShEvaluator::new(lmax)?;
     let n = num_coeffs(lmax);
-    let normal = light.normal();
-    let e = light.radiance();
-    let f = |nodes: &[[f64; 3]], weights: &[f64], out: &mut [f64]| -> Result<()> {
-        let dirs: Vec<[f64; 3]> = nodes.iter().map(|d| d.map(|c| c / norm(*d))).collect();
-        let mut y = vec![0.0; nodes.len() * n];
-        ev.real_batch(&dirs, &mut y)?;
-        for (k, (d, w)) in nodes.iter().zip(weights).enumerate() {
-            let r = norm(*d);
-            let s = e * w * dot(normal, *d).abs() / (r * r * r);
-            for (o, yv) in out.iter_mut().zip(&y[k * n..(k + 1) * n]) {
-                *o += s * yv;
-            }
-        }
-        Ok(())
+    let f = |nodes: &[[f64; 3]], weights: &[f64], out: &mut [f64]| {
+        add_values(&ev, light, nodes, weights, out)
     };
     integrate(&triangles(light, x, horizon)?, n, tol, &f)
 }
@@ -201,33 +164,8 @@ pub fn gradients(
 ) -> Result<Vec<[f64; 3]>> {
     let sh = SolidHarmonics::new(lmax)?;
     let n = num_coeffs(lmax);
-    let normal = light.normal();
-    let e = light.radiance();
-    let f = |nodes: &[[f64; 3]], weights: &[f64], out: &mut [f64]| -> Result<()> {
-        let m = nodes.len();
-        let (mut ys, mut gys, mut hys) = (
-            vec![0.0; m * n],
-            vec![[0.0; 3]; m * n],
-            vec![[0.0; 6]; m * n],
-        );
-        let dirs: Vec<[f64; 3]> = nodes.iter().map(|d| d.map(|c| c / norm(*d))).collect();
-        sh.eval_batch(&dirs, &mut ys, &mut gys, &mut hys)?;
-        for (p, (d, w)) in nodes.iter().zip(weights).enumerate() {
-            let r = norm(*d);
-            let (y, gy) = (&ys[p * n..(p + 1) * n], &gys[p * n..(p + 1) * n]);
-            let s = dot(normal, *d);
-            let q = s.abs() / (r * r * r);
-            // grad_d q = sign(s) N / r^3 - 3 |s| d / r^5; grad_d Y(d/r) = grad Y / r.
-            let gq: [f64; 3] = std::array::from_fn(|i| {
-                s.signum() * normal[i] / (r * r * r) - 3.0 * q * d[i] / (r * r)
-            });
-            for k in 0..n {
-                for i in 0..3 {
-                    out[3 * k + i] -= e * w * (gy[k][i] / r * q + y[k] * gq[i]);
-                }
-            }
-        }
-        Ok(())
+    let f = |nodes: &[[f64; 3]], weights: &[f64], out: &mut [f64]| {
+        add_gradients(&sh, light, nodes, weights, out)
     };
     let flat = integrate(&triangles(light, x, None)?, 3 * n, tol, &f)?;
     Ok(flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
