@@ -10,7 +10,7 @@ use crate::error::{check_len, Error, Result};
 use crate::geometry::frame::FrameField;
 use crate::geometry::image_grid::PixelGrid;
 use crate::sh::lm_index;
-use crate::sh::pixel::project_real_channels;
+use crate::sh::pixel::{block_sum, project_real_channels};
 use crate::stokes::StokesComponents;
 use crate::swsh::transform::{HalfAngle, SpinEvaluator};
 use num_complex::Complex64;
@@ -23,8 +23,8 @@ const LANES: usize = 16;
 /// components of `codomain`. Texels of zero solid angle (off the cube cross) are ignored;
 /// a NaN or infinite component elsewhere is an error naming the texel.
 pub fn project_image(
-    grid: &impl PixelGrid,
-    frames: &impl FrameField,
+    grid: &(impl PixelGrid + Sync),
+    frames: &(impl FrameField + Sync),
     channels: &[&[[f64; 4]]],
     codomain: Codomain,
     lmax: usize,
@@ -63,69 +63,77 @@ pub fn project_image(
     }
     let eval = SpinEvaluator::new(2, lmax)?;
     let rows = 2 * channels.len();
-    // Four partial sums per coefficient and row (re, im of each channel).
-    let mut acc = vec![[0.0; 4]; crate::sh::num_coeffs(lmax) * rows];
     let texels: Vec<(usize, f64)> = (0..grid.len())
         .map(|i| (i, grid.solid_angle(i)))
         .filter(|&(_, omega)| omega > 0.0)
         .collect();
-    let mut scratch = Vec::new();
-    let mut z = vec![[0.0; LANES]; rows];
-    let mut g = z.clone();
-    // cos(m phi), sin(m phi) per lane, m = 0..=lmax.
-    let mut cos_m = vec![[1.0; LANES]; lmax + 1];
-    let mut sin_m = vec![[0.0; LANES]; lmax + 1];
-    for block in texels.chunks(LANES) {
-        let mut half = [HalfAngle::from_theta(0.0); LANES];
-        z.iter_mut().for_each(|r| r.fill(0.0));
-        for (j, &(i, omega)) in block.iter().enumerate() {
-            let w = grid.direction(i);
-            let rho = w[0].hypot(w[1]);
-            half[j] = HalfAngle::from_z_rho(w[2], rho);
-            // e^{i phi}, with phi = 0 at the poles (docs/conventions.md Sec. 1).
-            let (cp, sp) = if rho > 0.0 {
-                (w[0] / rho, w[1] / rho)
-            } else {
-                (1.0, 0.0)
-            };
-            (cos_m[1][j], sin_m[1][j]) = (cp, sp);
-            let rot = to_theta_phi(&frames.frame(w)?, [w[2] * cp, w[2] * sp, -rho]);
-            for (c, ch) in channels.iter().enumerate() {
-                let s = StokesComponents::new(ch[i]).map_err(|_| Error::InvalidArgument {
-                    name: "Stokes texel",
-                    value: format!("channel {c}, texel {i}: {:?}", ch[i]),
-                    reason: "components must be finite".into(),
-                })?;
-                let v = rot * Complex64::new(s.s1(), s.s2()) * omega;
-                z[2 * c][j] = v.re;
-                z[2 * c + 1][j] = v.im;
-            }
-        }
-        // e^{i m phi} = e^{i (m-1) phi} e^{i phi}.
-        for m in 2..=lmax {
-            for j in 0..LANES {
-                let (c, s) = (cos_m[m - 1][j], sin_m[m - 1][j]);
-                cos_m[m][j] = c * cos_m[1][j] - s * sin_m[1][j];
-                sin_m[m][j] = s * cos_m[1][j] + c * sin_m[1][j];
-            }
-        }
-        eval.for_each_order_lanes(&half, &mut scratch, |m, l0, col| {
-            // g = z e^{-i m phi} per lane, with sin(-m phi) = -sin(m phi).
-            let (cm, sm) = (
-                &cos_m[m.unsigned_abs() as usize],
-                &sin_m[m.unsigned_abs() as usize],
-            );
-            let sign = if m >= 0 { -1.0 } else { 1.0 };
-            for (zc, gc) in z.chunks_exact(2).zip(g.chunks_exact_mut(2)) {
-                for j in 0..LANES {
-                    let (zr, zi, s) = (zc[0][j], zc[1][j], sign * sm[j]);
-                    gc[0][j] = zr * cm[j] - zi * s;
-                    gc[1][j] = zi * cm[j] + zr * s;
+    // Four partial sums per coefficient and row (re, im of each channel), flattened.
+    let n = crate::sh::num_coeffs(lmax);
+    let flat = block_sum(&texels, LANES, n * rows * 4, |block| {
+        let mut acc = vec![[0.0; 4]; n * rows];
+        let mut scratch = Vec::new();
+        let mut z = vec![[0.0; LANES]; rows];
+        let mut g = z.clone();
+        // cos(m phi), sin(m phi) per lane, m = 0..=lmax.
+        let mut cos_m = vec![[1.0; LANES]; lmax + 1];
+        let mut sin_m = vec![[0.0; LANES]; lmax + 1];
+        for chunk in block.chunks(LANES) {
+            let mut half = [HalfAngle::from_theta(0.0); LANES];
+            z.iter_mut().for_each(|r| r.fill(0.0));
+            for (j, &(i, omega)) in chunk.iter().enumerate() {
+                let w = grid.direction(i);
+                let rho = w[0].hypot(w[1]);
+                half[j] = HalfAngle::from_z_rho(w[2], rho);
+                // e^{i phi}, with phi = 0 at the poles (docs/conventions.md Sec. 1).
+                let (cp, sp) = if rho > 0.0 {
+                    (w[0] / rho, w[1] / rho)
+                } else {
+                    (1.0, 0.0)
+                };
+                (cos_m[1][j], sin_m[1][j]) = (cp, sp);
+                let rot = to_theta_phi(&frames.frame(w)?, [w[2] * cp, w[2] * sp, -rho]);
+                for (c, ch) in channels.iter().enumerate() {
+                    let s = StokesComponents::new(ch[i]).map_err(|_| Error::InvalidArgument {
+                        name: "Stokes texel",
+                        value: format!("channel {c}, texel {i}: {:?}", ch[i]),
+                        reason: "components must be finite".into(),
+                    })?;
+                    let v = rot * Complex64::new(s.s1(), s.s2()) * omega;
+                    z[2 * c][j] = v.re;
+                    z[2 * c + 1][j] = v.im;
                 }
             }
-            accumulate(col, &g, &mut acc, |k| lm_index(l0 + k, m));
-        });
-    }
+            // e^{i m phi} = e^{i (m-1) phi} e^{i phi}.
+            for m in 2..=lmax {
+                for j in 0..LANES {
+                    let (c, s) = (cos_m[m - 1][j], sin_m[m - 1][j]);
+                    cos_m[m][j] = c * cos_m[1][j] - s * sin_m[1][j];
+                    sin_m[m][j] = s * cos_m[1][j] + c * sin_m[1][j];
+                }
+            }
+            eval.for_each_order_lanes(&half, &mut scratch, |m, l0, col| {
+                // g = z e^{-i m phi} per lane, with sin(-m phi) = -sin(m phi).
+                let (cm, sm) = (
+                    &cos_m[m.unsigned_abs() as usize],
+                    &sin_m[m.unsigned_abs() as usize],
+                );
+                let sign = if m >= 0 { -1.0 } else { 1.0 };
+                for (zc, gc) in z.chunks_exact(2).zip(g.chunks_exact_mut(2)) {
+                    for j in 0..LANES {
+                        let (zr, zi, s) = (zc[0][j], zc[1][j], sign * sm[j]);
+                        gc[0][j] = zr * cm[j] - zi * s;
+                        gc[1][j] = zi * cm[j] + zr * s;
+                    }
+                }
+                accumulate(col, &g, &mut acc, |k| lm_index(l0 + k, m));
+            });
+        }
+        Ok(acc.into_iter().flatten().collect())
+    })?;
+    let acc: Vec<[f64; 4]> = flat
+        .chunks_exact(4)
+        .map(|v| [v[0], v[1], v[2], v[3]])
+        .collect();
     let sum = |v: &[f64; 4]| (v[0] + v[1]) + (v[2] + v[3]);
     for c in 0..channels.len() {
         let a: Vec<Complex64> = acc

@@ -11,10 +11,41 @@ use nalgebra::{DMatrix, DMatrixView};
 /// Texels evaluated per batch (bounds the scratch to `CHUNK (lmax+1)^2` values).
 const CHUNK: usize = 1024;
 
+/// Blocks of a parallel texel sum: a fixed number, so that the sum's rounding does not
+/// depend on the number of threads.
+const BLOCKS: usize = 8;
+
+/// `sum_b partial(block_b)` element-wise over at most [`BLOCKS`] contiguous blocks of
+/// `items` (whole multiples of `chunk` items), the blocks in parallel and their partial
+/// sums added in block order (deterministic). Error: the first partial's error.
+pub(crate) fn block_sum<T: Sync>(
+    items: &[T],
+    chunk: usize,
+    len: usize,
+    partial: impl Fn(&[T]) -> Result<Vec<f64>> + Sync,
+) -> Result<Vec<f64>> {
+    use rayon::prelude::*;
+    let per_block = items.len().div_ceil(BLOCKS).div_ceil(chunk).max(1) * chunk;
+    let parts = items
+        .par_chunks(per_block)
+        .map(&partial)
+        .collect::<Result<Vec<_>>>()?;
+    let mut sum = vec![0.0; len];
+    for p in parts {
+        check_len("partial sum", len, p.len())?;
+        sum.iter_mut().zip(p).for_each(|(a, b)| *a += b);
+    }
+    Ok(sum)
+}
+
 /// Real SH coefficients (PSH (12)) of `l <= lmax` of one real image on `grid`.
 /// Values of texels with zero solid angle (off the cube cross) are ignored; NaN or
 /// infinite values elsewhere are an error naming the texel.
-pub fn project_real(grid: &impl PixelGrid, values: &[f64], lmax: usize) -> Result<Vec<f64>> {
+pub fn project_real(
+    grid: &(impl PixelGrid + Sync),
+    values: &[f64],
+    lmax: usize,
+) -> Result<Vec<f64>> {
     Ok(project_real_channels(grid, &[values], lmax)?.remove(0))
 }
 
@@ -22,7 +53,7 @@ pub fn project_real(grid: &impl PixelGrid, values: &[f64], lmax: usize) -> Resul
 /// evaluation: one coefficient vector per channel. Per chunk of texels the sums are one
 /// matrix product `F += Y^T (Omega v)` (nalgebra's `gemm`).
 pub fn project_real_channels(
-    grid: &impl PixelGrid,
+    grid: &(impl PixelGrid + Sync),
     channels: &[&[f64]],
     lmax: usize,
 ) -> Result<Vec<Vec<f64>>> {
@@ -30,33 +61,32 @@ pub fn project_real_channels(
         check_len("image values", grid.len(), c.len())?;
     }
     let ev = ShEvaluator::new(lmax)?;
-    let n = ev.len();
-    let mut out = DMatrix::<f64>::zeros(n, channels.len());
+    let (n, nch) = (ev.len(), channels.len());
     let texels: Vec<(usize, f64)> = (0..grid.len())
         .map(|i| (i, grid.solid_angle(i)))
         .filter(|&(_, w)| w > 0.0)
         .collect();
-    let mut dirs = Vec::with_capacity(CHUNK);
-    let mut y = vec![0.0; CHUNK * n];
-    for chunk in texels.chunks(CHUNK) {
-        dirs.clear();
-        dirs.extend(chunk.iter().map(|&(i, _)| grid.direction(i)));
-        let y = &mut y[..chunk.len() * n];
-        ev.real_batch(&dirs, y)?;
-        let mut v = DMatrix::<f64>::zeros(chunk.len(), channels.len());
-        for (c, vals) in channels.iter().enumerate() {
-            for (k, &(i, w)) in chunk.iter().enumerate() {
-                v[(k, c)] = finite("texel value", vals[i])? * w;
+    // Column-major n x nch.
+    let sum = block_sum(&texels, CHUNK, n * nch, |block| {
+        let mut out = DMatrix::<f64>::zeros(n, nch);
+        let mut y = vec![0.0; CHUNK * n];
+        for chunk in block.chunks(CHUNK) {
+            let dirs: Vec<[f64; 3]> = chunk.iter().map(|&(i, _)| grid.direction(i)).collect();
+            let y = &mut y[..chunk.len() * n];
+            ev.real_batch(&dirs, y)?;
+            let mut v = DMatrix::<f64>::zeros(chunk.len(), nch);
+            for (c, vals) in channels.iter().enumerate() {
+                for (k, &(i, w)) in chunk.iter().enumerate() {
+                    v[(k, c)] = finite("texel value", vals[i])? * w;
+                }
             }
+            // Y (chunk x n, row-major) is Y^T column-major.
+            let yt = DMatrixView::from_slice(y, n, chunk.len());
+            out.gemm(1.0, &yt, &v, 1.0);
         }
-        // Y (chunk x n, row-major) is Y^T column-major.
-        let yt = DMatrixView::from_slice(y, n, chunk.len());
-        out.gemm(1.0, &yt, &v, 1.0);
-    }
-    Ok(out
-        .column_iter()
-        .map(|c| c.iter().copied().collect())
-        .collect())
+        Ok(out.as_slice().to_vec())
+    })?;
+    Ok(sum.chunks_exact(n).map(<[f64]>::to_vec).collect())
 }
 
 #[cfg(test)]
