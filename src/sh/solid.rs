@@ -29,6 +29,7 @@ use super::harmonics::check_direction;
 use super::legendre::diagonal_factor;
 use super::num_coeffs;
 use crate::error::{check_len, Result};
+use rayon::prelude::*;
 use std::f64::consts::{PI, SQRT_2};
 
 /// Largest degree of [`SolidHarmonics`]: `qbar_lm` at the poles grows like
@@ -215,7 +216,13 @@ impl SolidHarmonics {
         gradients: &mut [[f64; 3]],
         hessians: &mut [[f64; 6]],
     ) -> Result<()> {
-        self.eval_batch(&[w], values, gradients, hessians)
+        let n = self.len();
+        check_len("SH values", n, values.len())?;
+        check_len("SH gradients", n, gradients.len())?;
+        check_len("SH Hessians", n, hessians.len())?;
+        check_direction(w)?;
+        self.group(&[w], &mut self.scratch(), (values, gradients, hessians));
+        Ok(())
     }
 
     /// [`Self::eval`] at many unit directions: row `i` of each output (length
@@ -236,33 +243,40 @@ impl SolidHarmonics {
         for &w in dirs {
             check_direction(w)?;
         }
-        let mut s = self.scratch();
-        for (i, chunk) in dirs.chunks(LANES).enumerate() {
-            let rows = i * LANES * n..(i * LANES + chunk.len()) * n;
-            let (v, g, h) = (
-                &mut values[rows.clone()],
-                &mut gradients[rows.clone()],
-                &mut hessians[rows],
+        // Groups of LANES directions in parallel (rows are disjoint, nothing is summed).
+        let rows = LANES * n;
+        dirs.par_chunks(LANES)
+            .zip(values.par_chunks_mut(rows))
+            .zip(gradients.par_chunks_mut(rows))
+            .zip(hessians.par_chunks_mut(rows))
+            .for_each_init(
+                || self.scratch(),
+                |s, (((chunk, v), g), h)| self.group(chunk, s, (v, g, h)),
             );
-            if chunk.len() == LANES {
-                let w: [[f64; 3]; LANES] = std::array::from_fn(|j| chunk[j]);
-                self.lanes(&w, &mut s, (v, g, h));
-            } else {
-                // A short last group: padded with its first direction, evaluated into
-                // spare rows, of which the valid ones are copied.
-                let w: [[f64; 3]; LANES] = std::array::from_fn(|j| chunk[j.min(chunk.len() - 1)]);
-                let mut tail = (
-                    vec![0.0; LANES * n],
-                    vec![[0.0; 3]; LANES * n],
-                    vec![[0.0; 6]; LANES * n],
-                );
-                self.lanes(&w, &mut s, (&mut tail.0, &mut tail.1, &mut tail.2));
-                v.copy_from_slice(&tail.0[..v.len()]);
-                g.copy_from_slice(&tail.1[..g.len()]);
-                h.copy_from_slice(&tail.2[..h.len()]);
-            }
-        }
         Ok(())
+    }
+
+    /// At most `LANES` checked directions into their rows of `out`: a short group is
+    /// padded with its last direction, evaluated into spare rows, of which the valid ones
+    /// are copied.
+    fn group(&self, chunk: &[[f64; 3]], s: &mut Scratch, out: Out) {
+        let (v, g, h) = out;
+        if chunk.len() == LANES {
+            let w: [[f64; 3]; LANES] = std::array::from_fn(|j| chunk[j]);
+            self.lanes(&w, s, (v, g, h));
+        } else {
+            let n = self.len();
+            let w: [[f64; 3]; LANES] = std::array::from_fn(|j| chunk[j.min(chunk.len() - 1)]);
+            let mut tail = (
+                vec![0.0; LANES * n],
+                vec![[0.0; 3]; LANES * n],
+                vec![[0.0; 6]; LANES * n],
+            );
+            self.lanes(&w, s, (&mut tail.0, &mut tail.1, &mut tail.2));
+            v.copy_from_slice(&tail.0[..v.len()]);
+            g.copy_from_slice(&tail.1[..g.len()]);
+            h.copy_from_slice(&tail.2[..h.len()]);
+        }
     }
 
     /// The kernel at `LANES` (checked) directions, into `LANES` rows of `out`.
