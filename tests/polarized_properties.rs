@@ -48,6 +48,7 @@ proptest! {
     /// same; only the frame conversion PSH (14) differs), for every codomain.
     #[test]
     fn projection_is_frame_independent(pole in rotvec(), seed in 0u64..1 << 40, cod in 0usize..3) {
+        // (s0 alone does not depend on frames: the images would not differ.)
         let codomain = [Codomain::Linear, Codomain::NoCircular, Codomain::Full][cod];
         let lmax = 6;
         let v = psh::verify::random_psh(lmax, codomain, 2, seed).unwrap();
@@ -62,6 +63,26 @@ proptest! {
         let pa = project_image(&grid, &random, &ra, codomain, lmax).unwrap();
         let pb = project_image(&grid, &CubeMapFrameField, &rb, codomain, lmax).unwrap();
         prop_assert!(max_rel(&pa, &pb) < 1e-13, "{}", max_rel(&pa, &pb));
+    }
+
+    /// Scalar SH is the s0 part of PSH: rotating an intensity-only vector with the real
+    /// Wigner blocks alone (`PshRotation::for_codomain`) equals the full rotation of the
+    /// same field read back in `{s0}`.
+    #[test]
+    fn intensity_rotation_is_the_s0_block(a in rotvec(), seed in 0u64..1000) {
+        let lmax = 8;
+        let v = psh::verify::random_psh(lmax, Codomain::Intensity, 2, seed).unwrap();
+        let r = rotation_from_rotvec(a).unwrap();
+        let scalar = PshRotation::for_codomain(&r, lmax, Codomain::Intensity).unwrap()
+            .rotate(&v).unwrap();
+        let full = PshRotation::new(&r, lmax).unwrap()
+            .rotate(&v.with_codomain(Codomain::Full)).unwrap();
+        let s0 = full.with_codomain(Codomain::Intensity);
+        prop_assert_eq!(s0.data(), scalar.data());
+        prop_assert!(full.data().chunks_exact(4).all(|x| x[1..] == [0.0; 3]));
+        let spin = psh::verify::random_psh(lmax, Codomain::Full, 1, seed).unwrap();
+        prop_assert!(PshRotation::for_codomain(&r, lmax, Codomain::Intensity).unwrap()
+            .rotate(&spin).is_err());
     }
 
     /// PSH rotations compose: rotating by R2 then R1 equals rotating by R1 R2 (PSH (35)-(37)).

@@ -274,7 +274,12 @@ mod tests {
     /// travel convention (checked on one coefficient), with the header polarsh writes.
     #[test]
     fn round_trip_in_polarsh_convention() {
-        for cod in [Codomain::Linear, Codomain::NoCircular, Codomain::Full] {
+        for cod in [
+            Codomain::Intensity,
+            Codomain::Linear,
+            Codomain::NoCircular,
+            Codomain::Full,
+        ] {
             let v = crate::verify::random_psh(5, cod, 3, 11).unwrap();
             let path = tmp(&format!("{}.npz", cod.name()));
             write_psh_npz(&path, &v).unwrap();
