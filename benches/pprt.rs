@@ -2,9 +2,11 @@
 //! scene (`scenes/buddha.toml`; skipped with a message when the shared data is absent).
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use indicatif::ProgressBar;
+use psh::pprt::plan::Plan;
 use psh::pprt::render::{background, primary_hits, render_frame};
 use psh::pprt::scene_file::{data_dir, load_scene};
-use psh::pprt::transfer::{high_order_fields, precompute, TransferSettings};
+use psh::pprt::transfer::{precompute_planned, TransferSettings};
 
 fn pprt(c: &mut Criterion) {
     if !data_dir().join("polarsh/buddha.obj").exists() {
@@ -25,12 +27,15 @@ fn pprt(c: &mut Criterion) {
     let mut grp = c.benchmark_group("pprt");
     grp.sample_size(10);
     // 2,000 visibility rays per vertex, triple products, rotation, pBRDF product (the
-    // high orders' convolution is per material and not included).
+    // plan: the materials' matrices and the high orders' convolution, per material, is
+    // built once outside).
+    let plan = Plan::full(&scene, settings).unwrap();
+    let hidden = ProgressBar::hidden();
     grp.bench_function("precompute/buddha", |b| {
-        b.iter(|| precompute(&scene, settings).unwrap())
+        b.iter(|| precompute_planned(&scene, &plan, &hidden).unwrap())
     });
-    let transfer = precompute(&scene, settings).unwrap();
-    let high = high_order_fields(&scene, settings).unwrap();
+    let transfer = precompute_planned(&scene, &plan, &hidden).unwrap();
+    let high = plan.high_fields();
     let hits = primary_hits(&scene);
     let bg = background(&scene, &hits).unwrap();
     // One 512 x 512 frame after precomputation (vertex evaluation with the high orders,

@@ -7,12 +7,14 @@
 //! RMSE per Stokes component is over the pixels that see a surface and the three
 //! channels, in the camera's frames; the total is the root of their sum of squares.
 
+use super::plan::Plan;
 use super::reference::{Fidelity, Reference, ReferenceSettings};
 use super::render::{background, primary_hits, render_frame, StokesImage};
 use super::scene::Scene;
-use super::transfer::{high_order_fields, precompute, TransferSettings};
+use super::transfer::{precompute_planned, TransferSettings};
 use crate::error::{Error, Result};
 use crate::io::plot::{LinePlot, Series};
+use indicatif::ProgressBar;
 use serde::Serialize;
 use serde_json::json;
 use std::path::Path;
@@ -147,8 +149,9 @@ pub fn bench_error(
         for setting in ["full", "no_shadow", "low_only"] {
             let settings = pprt_settings(setting, l, options.rays);
             let t = Instant::now();
-            let transfer = precompute(scene, settings)?;
-            let high = high_order_fields(scene, settings)?;
+            let plan = Plan::full(scene, settings)?;
+            let transfer = precompute_planned(scene, &plan, &ProgressBar::hidden())?;
+            let high = plan.high_fields();
             let precompute_s = t.elapsed().as_secs_f64();
             let t = Instant::now();
             let image = render_frame(scene, &transfer, &high, &hits, &bg)?;

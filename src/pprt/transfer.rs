@@ -205,26 +205,13 @@ pub fn precompute_planned(
         .collect()
 }
 
-/// [`high_orders`] without the residuals: the convolved environments per material.
+/// The high orders per material ([`super::reflected`], [`Plan::full`]): the environment
+/// convolved with the kernel of the material's reflected pBRDF over the bands
+/// `l_low < l <= l_high` (RGB); `None` for every material when `l_high <= l_low`. Error: an
+/// environment below `l_high`.
 pub fn high_order_fields(
     scene: &Scene,
     settings: TransferSettings,
 ) -> Result<Vec<Option<PshVector>>> {
     Ok(Plan::full(scene, settings)?.high_fields())
-}
-
-/// The high orders per material ([`super::reflected`]): the environment convolved with
-/// the kernel of the material's reflected pBRDF over the bands `l_low < l <= l_high`
-/// (RGB), and the projection's largest relative residual over the channels; `None` for
-/// every material when `l_high <= l_low` ([`Plan::full`]). Error: an environment below
-/// `l_high`.
-pub fn high_orders(
-    scene: &Scene,
-    settings: TransferSettings,
-) -> Result<Vec<Option<(PshVector, f64)>>> {
-    Ok(Plan::full(scene, settings)?
-        .materials
-        .into_iter()
-        .map(|m| m.high)
-        .collect())
 }
