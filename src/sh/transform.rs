@@ -139,18 +139,13 @@ impl ShTransform {
         let mut south = north.clone();
         let mut scratch = Vec::new();
         for (polars, pairs) in self.ring_blocks() {
-            let mut w = [0.0; RINGS];
-            for (j, &(jn, js)) in pairs.iter().enumerate() {
-                w[j] = self.grid.weight(jn);
-                north[j].copy_from_slice(&values[jn * np..(jn + 1) * np]);
-                self.forward.process(&mut north[j]);
-                if js != jn {
-                    south[j].copy_from_slice(&values[js * np..(js + 1) * np]);
-                    self.forward.process(&mut south[j]);
-                } else {
-                    south[j].fill(Complex64::default());
-                }
-            }
+            let w: [f64; RINGS] = forward_ring_pairs(
+                &self.grid,
+                self.forward.as_ref(),
+                values,
+                &pairs,
+                (&mut north, &mut south),
+            );
             self.legendre
                 .for_each_column_lanes(&polars, &mut scratch, |m, col| {
                     for (mm, s) in signed_orders(m) {
@@ -287,6 +282,33 @@ fn signed_orders(m: usize) -> impl Iterator<Item = (i64, f64)> {
 
 /// Ring pairs per lane block of the Legendre recursion.
 const RINGS: usize = 16;
+
+/// The forward FFTs of the rings of mirror `pairs` (north, south; a self-mirrored equator
+/// gives a zero south) into `north[j]`, `south[j]`, and the rings' quadrature weights
+/// (zero in unused lanes): the first step of analysis, shared by the scalar and spin
+/// transforms.
+pub(crate) fn forward_ring_pairs<const N: usize>(
+    grid: &SphereGrid,
+    forward: &dyn Fft<f64>,
+    values: &[Complex64],
+    pairs: &[(usize, usize)],
+    (north, south): (&mut [Vec<Complex64>], &mut [Vec<Complex64>]),
+) -> [f64; N] {
+    let np = grid.n_phi;
+    let mut w = [0.0; N];
+    for (j, &(jn, js)) in pairs.iter().enumerate() {
+        w[j] = grid.weight(jn);
+        north[j].copy_from_slice(&values[jn * np..(jn + 1) * np]);
+        forward.process(&mut north[j]);
+        if js != jn {
+            south[j].copy_from_slice(&values[js * np..(js + 1) * np]);
+            forward.process(&mut south[j]);
+        } else {
+            south[j].fill(Complex64::default());
+        }
+    }
+    w
+}
 
 /// A block of ring pairs: their (northern) polar angles, padded to `RINGS` lanes, and the
 /// `(north, south)` ring indices of the lanes in use.

@@ -26,7 +26,7 @@
 use crate::error::{check_len, Error, Result};
 use crate::sh::grid::SphereGrid;
 use crate::sh::legendre::{lane_scale, rescale_lanes, BIG, LANE_BLOCK, SCALE_BITS, SMALL};
-use crate::sh::transform::OrderMajor;
+use crate::sh::transform::{forward_ring_pairs, OrderMajor};
 use crate::sh::{lm_index, num_coeffs};
 use num_complex::Complex64;
 use rayon::prelude::*;
@@ -266,18 +266,13 @@ impl SpinTransform {
                 let mut south = north.clone();
                 let mut scratch = Vec::new();
                 for (half, pairs) in group {
-                    let mut w = [0.0; RINGS];
-                    for (j, &(jn, js)) in pairs.iter().enumerate() {
-                        w[j] = self.grid.weight(jn);
-                        north[j].copy_from_slice(&values[jn * np..(jn + 1) * np]);
-                        self.forward.process(&mut north[j]);
-                        if js != jn {
-                            south[j].copy_from_slice(&values[js * np..(js + 1) * np]);
-                            self.forward.process(&mut south[j]);
-                        } else {
-                            south[j].fill(Complex64::default());
-                        }
-                    }
+                    let w: [f64; RINGS] = forward_ring_pairs(
+                        &self.grid,
+                        self.forward.as_ref(),
+                        values,
+                        pairs,
+                        (&mut north, &mut south),
+                    );
                     self.eval
                         .for_each_order_lanes(half, &mut scratch, |m, _, col| {
                             let (bn, bs) = (self.bin(m), self.bin(-m));
