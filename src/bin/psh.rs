@@ -137,8 +137,8 @@ struct RenderArgs {
     /// with it; the render is planned unless --no-plan.
     #[arg(long, conflicts_with = "no_plan")]
     plan: bool,
-    /// Compute everything: full Stokes vectors, visibility rays, dense storage, every high
-    /// order up to --l-high.
+    /// Compute everything: full Stokes vectors, visibility rays, every nonzero matrix
+    /// entry, every high order up to --l-high.
     #[arg(long)]
     no_plan: bool,
     /// Error tolerance of the plan's decisions (relative; in (0, 1)).

@@ -96,8 +96,8 @@ impl TripleTable {
     }
 
     /// The couplings that act on `codomain`: PSH (56) only when it has `s1, s2` (scalar SH
-    /// needs the real Gaunt table alone). [`Self::transfer`] then has zero spin-2 blocks,
-    /// and [`Self::shadow`] refuses vectors with spin-2 components.
+    /// needs the real Gaunt table alone). Without them [`Self::transfer`] and
+    /// [`Self::shadow`] of vectors with spin-2 components are errors.
     pub fn for_codomain(lv: usize, lmax: usize, codomain: Codomain) -> Result<Self> {
         check_lmax(lmax)?;
         let scalar = GauntTable::new(GauntBasis::Real, lv, lmax, lmax)?;
@@ -202,9 +202,18 @@ impl TripleTable {
     }
 
     /// The PSH matrix of `f -> V f` (PSH (54)) for `V = sum v_{lm} Y^R_{lm}`, `l <= lv`,
-    /// flat order `l*l + l + m`. Errors: wrong length, non-finite `v`.
+    /// flat order `l*l + l + m`. Errors: wrong length, non-finite `v`, a table built
+    /// without the spin-2 couplings ([`Self::for_codomain`]), whose matrix would be wrong on
+    /// `s1, s2`.
     pub fn transfer(&self, v: &[f64]) -> Result<PshMatrix> {
         self.check_visibility(v)?;
+        if !self.has_spin2 {
+            return Err(Error::InvalidArgument {
+                name: "triple table",
+                value: "spin 0 only".into(),
+                reason: "the full PSH matrix needs the spin-2 couplings (TripleTable::new)".into(),
+            });
+        }
         let n = num_coeffs(self.lmax);
         let mut data = vec![0.0; n * n * 16];
         // PSH (55): the real Gaunt product matrix, on the diagonal p_o = p_i in {0, 3}.
@@ -311,6 +320,7 @@ mod tests {
         let scalar = TripleTable::for_codomain(lv, lmax, Codomain::Intensity).unwrap();
         let f = crate::verify::random_psh(lmax, Codomain::Full, 1, 5).unwrap();
         assert!(scalar.shadow(&v, &f).is_err());
+        assert!(scalar.transfer(&v).is_err());
     }
 
     fn max_diff(a: &[f64], b: &[f64]) -> f64 {

@@ -87,7 +87,7 @@ pub struct Plan {
 
 impl Plan {
     /// Everything computed: full Stokes vectors, ray-cast visibility (when the settings ask
-    /// for shadows), dense storage and the high orders up to `settings.l_high`. Errors: as
+    /// for shadows), every nonzero matrix entry stored and the high orders up to `settings.l_high`. Errors: as
     /// [`TransferSettings::check`], and materials or an environment that cannot be projected
     /// at the band limits.
     pub fn full(scene: &Scene, settings: TransferSettings) -> Result<Plan> {
@@ -127,7 +127,8 @@ impl Plan {
             .collect::<Result<Vec<_>>>()?;
         let codomain = match tolerance {
             Some(tol) => {
-                let (c, why) = stokes_components(scene, &matrices, tol)?;
+                // The matrices to l_high: the high orders' kernels come from them too.
+                let (c, why) = stokes_components(scene, &matrices_high, tol)?;
                 reasons.push(why);
                 c
             }
@@ -272,7 +273,7 @@ fn block_max(m: &PshMatrix, blocks: &[(usize, usize)]) -> f64 {
 /// The Stokes components the scene needs within `tol` (module docs), and why.
 fn stokes_components(
     scene: &Scene,
-    matrices: &[Vec<PshMatrix>],
+    matrices: &[[PshMatrix; 3]],
     tol: f64,
 ) -> Result<(Codomain, String)> {
     let env = scene.environment();
@@ -297,7 +298,10 @@ fn stokes_components(
             .iter()
             .flatten()
             .map(|m| {
-                let all = block_max(m, &ALL_BLOCKS).max(f64::MIN_POSITIVE);
+                let all = m
+                    .data()
+                    .iter()
+                    .fold(f64::MIN_POSITIVE, |a, x| a.max(x.abs()));
                 block_max(m, blocks) / all
             })
             .fold(0.0, f64::max)
@@ -333,26 +337,6 @@ fn stokes_components(
         )
     })
 }
-
-/// Every `(p_o, p_i)` block.
-const ALL_BLOCKS: [(usize, usize); 16] = [
-    (0, 0),
-    (0, 1),
-    (0, 2),
-    (0, 3),
-    (1, 0),
-    (1, 1),
-    (1, 2),
-    (1, 3),
-    (2, 0),
-    (2, 1),
-    (2, 2),
-    (2, 3),
-    (3, 0),
-    (3, 1),
-    (3, 2),
-    (3, 3),
-];
 
 /// `(l_high, high orders and residual, dropped tail)` of one material.
 type HighOrderCut = (usize, Option<(PshVector, f64)>, f64);
