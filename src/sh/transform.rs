@@ -422,15 +422,6 @@ impl OrderMajor {
         let i = (m + self.lmax as i64) as usize;
         &mut self.data[self.offsets[i]..self.offsets[i + 1]]
     }
-
-    /// `self += other` entry by entry (the same band limit and start degrees).
-    pub(crate) fn add(&mut self, other: &OrderMajor) {
-        debug_assert_eq!(self.offsets, other.offsets);
-        self.data
-            .iter_mut()
-            .zip(&other.data)
-            .for_each(|(a, b)| *a += b);
-    }
 }
 
 /// [`OrderMajor`] of scalar SH, `l0(m) = |m|`.

@@ -22,17 +22,24 @@
 //! rings come in mirror pairs `theta, pi - theta`, on which
 //! `Lambda_lm(pi - theta) = (-1)^{l+s} Lambda_{l,-m}(theta)` (`proofs/swsh.md`): the column
 //! of order `m` at a northern ring serves order `-m` at its southern mirror.
+//!
+//! The transforms run order by order (orders in parallel, so that each coefficient and
+//! each ring value is summed by one task in a fixed order, whatever the thread count): one
+//! recursion over all northern rings at once, four rings per SIMD vector (`wide::f64x4`,
+//! fused multiply-adds where the target has them), two degrees per pass, leaving out the
+//! rings near the poles while their values are negligible (below `2^-64`, bound in
+//! `proofs/swsh.md`).
 
 use crate::error::{check_len, Error, Result};
 use crate::sh::grid::SphereGrid;
 use crate::sh::legendre::{lane_scale, rescale_lanes, BIG, LANE_BLOCK, SCALE_BITS, SMALL};
-use crate::sh::transform::{forward_ring_pairs, OrderMajor};
 use crate::sh::{lm_index, num_coeffs};
 use num_complex::Complex64;
 use rayon::prelude::*;
 use rustfft::{Fft, FftPlanner};
 use std::f64::consts::PI;
 use std::sync::Arc;
+use wide::f64x4;
 
 /// `cos(theta/2)`, `sin(theta/2)` of a polar angle in `[0, pi]`: the variables of the start
 /// and of `u = 2 sin^2(theta/2)`.
@@ -47,6 +54,11 @@ impl HalfAngle {
     pub(crate) fn from_theta(theta: f64) -> Self {
         let (sin, cos) = (0.5 * theta).sin_cos();
         Self { cos, sin }
+    }
+
+    /// `u = 1 - cos theta = 2 sin^2(theta/2)`, the variable of the recursion.
+    fn u(&self) -> f64 {
+        2.0 * self.sin * self.sin
     }
 
     /// From `z = cos theta` and `rho = sin theta >= 0` of a unit direction:
@@ -80,8 +92,10 @@ enum Start {
     Diagonal(f64),
 }
 
-/// Recursion data of one order `m`: its start degree and start, and `[A_l, B_l, c_l]`
-/// (norms folded in) for `l = l0 + 1..=lmax`.
+/// Recursion data of one order `m`: its start degree and start, and the steps
+/// `[A_l, B_l, c_l]` (norms folded in) of the degrees `k = l - l0` in pairs: `[1, 1, 0]` at
+/// `k = 0` (from `p_{-1} = 0`, `p_{-2} = -start` it gives the start), then `l = l0 + 1..=lmax`,
+/// then `[0, 0, 0]` if needed to make the count even (a zero value past `lmax`).
 #[derive(Clone, Debug)]
 struct Column {
     m: i64,
@@ -104,6 +118,7 @@ pub struct SpinEvaluator {
 pub struct SpinTransform {
     eval: SpinEvaluator,
     grid: SphereGrid,
+    rings: RingLanes,
     forward: Arc<dyn Fft<f64>>,
     inverse: Arc<dyn Fft<f64>>,
 }
@@ -117,20 +132,72 @@ impl std::fmt::Debug for SpinTransform {
     }
 }
 
-/// Ring pairs per lane block of the spin recursion.
-const RINGS: usize = 16;
+/// Lanes (polar angles) per vector of the sweeps.
+const LANES: usize = 4;
 
-/// Groups of ring blocks summed in parallel by [`SpinTransform::analysis`]: a fixed
-/// number, so that the result does not depend on the thread count. Each group keeps its
-/// own coefficient sums (16 MB at l = 512) and streams them once per ring block, so more
-/// groups cost memory traffic (measured on 2 vCPUs: 4 groups 57 ms, 8 groups 62 ms, 2
-/// groups 48 ms at l = 512).
-const GROUPS: usize = 2;
+/// A recursion start per lane of a vector: mantissa and binary exponent.
+type LaneStart = (f64x4, [i32; LANES]);
 
-/// A block of ring pairs: the half angles of their northern rings, padded to `RINGS` lanes,
-/// and the `(north, south)` ring indices of the lanes in use (`north == south` for the
-/// equator ring of an odd rule).
-type RingBlock = ([HalfAngle; RINGS], Vec<(usize, usize)>);
+/// The grid's mirror ring pairs `theta, pi - theta` in chunks of [`LANES`] (a short last
+/// chunk repeats its last ring; those lanes carry zero data and their results are dropped),
+/// with what the sweeps of all orders share: `u = 1 - cos theta` of the northern rings and
+/// the start of every column's recursion (walk order) at every chunk.
+struct RingLanes {
+    /// `(north, south)` ring indices (`north == south` for the equator ring of an odd rule).
+    pairs: Vec<(usize, usize)>,
+    u: Vec<f64x4>,
+    /// Quadrature weights of the pairs (the same for both rings; the mirror weight is zero
+    /// for the equator ring of an odd rule, which the north weight covers, and in padding
+    /// lanes): `[north, north, mirror, mirror]` per lane vector, for `[re, im]` of both.
+    weights: Vec<[f64x4; 4]>,
+    starts: Vec<Vec<LaneStart>>,
+}
+
+impl RingLanes {
+    fn new(eval: &SpinEvaluator, grid: &SphereGrid) -> Self {
+        let r = &grid.rings;
+        let n = r.theta.len();
+        let pairs: Vec<(usize, usize)> = (0..n.div_ceil(2)).map(|j| (j, n - 1 - j)).collect();
+        let half: Vec<[HalfAngle; LANES]> = pairs
+            .chunks(LANES)
+            .map(|c| {
+                std::array::from_fn(|j| HalfAngle::from_theta(r.theta[c[j.min(c.len() - 1)].0]))
+            })
+            .collect();
+        let u = half.iter().map(|h| f64x4::new(h.map(|h| h.u()))).collect();
+        let mut starts = vec![Vec::with_capacity(half.len()); eval.columns.len()];
+        for h in &half {
+            let mut walk = StartWalk::new(h, eval.spin);
+            for (col, s) in eval.columns.iter().zip(&mut starts) {
+                let (p, e) = walk.next(col);
+                s.push((f64x4::new(p), e));
+            }
+        }
+        let weights = pairs
+            .chunks(LANES)
+            .map(|c| {
+                let w = |mirror: bool| {
+                    f64x4::new(std::array::from_fn(|j| match c.get(j) {
+                        Some(&(jn, js)) if !mirror || js != jn => grid.weight(jn),
+                        _ => 0.0,
+                    }))
+                };
+                [w(false), w(false), w(true), w(true)]
+            })
+            .collect();
+        Self {
+            pairs,
+            u,
+            weights,
+            starts,
+        }
+    }
+
+    /// The ring pairs of lane `j` of chunk `c`, if in use.
+    fn pair(&self, c: usize, j: usize) -> Option<(usize, usize)> {
+        self.pairs.get(c * LANES + j).copied()
+    }
+}
 
 impl SpinTransform {
     /// Spin-`s` transform for band limit `lmax` on the smallest exact grid.
@@ -145,6 +212,7 @@ impl SpinTransform {
         grid.check_band_limit(lmax)?;
         let mut planner = FftPlanner::new();
         Ok(Self {
+            rings: RingLanes::new(&eval, &grid),
             eval,
             forward: planner.plan_fft_forward(grid.n_phi),
             inverse: planner.plan_fft_inverse(grid.n_phi),
@@ -171,23 +239,6 @@ impl SpinTransform {
         m.rem_euclid(self.grid.n_phi as i64) as usize
     }
 
-    /// Mirror ring pairs in blocks of `RINGS` lanes; a short last block repeats its last
-    /// ring in the unused lanes (their results are dropped).
-    fn ring_blocks(&self) -> Vec<RingBlock> {
-        let r = &self.grid.rings;
-        let n = r.len();
-        let pairs: Vec<(usize, usize)> = (0..n.div_ceil(2)).map(|j| (j, n - 1 - j)).collect();
-        pairs
-            .chunks(RINGS)
-            .map(|c| {
-                let half = std::array::from_fn(|j| {
-                    HalfAngle::from_theta(r.theta[c[j.min(c.len() - 1)].0])
-                });
-                (half, c.to_vec())
-            })
-            .collect()
-    }
-
     /// `(-1)^{l+s}`, the mirror sign.
     fn mirror_sign(&self, l: usize) -> f64 {
         if (l as i64 + self.eval.spin) % 2 == 0 {
@@ -197,173 +248,435 @@ impl SpinTransform {
         }
     }
 
+    /// `f(column, state)` for every column, in parallel by the pairs of orders `m`, `-m`
+    /// (whose columns have the same length), with the column of each result.
+    fn par_columns<T: Send>(
+        &self,
+        f: impl Fn(&Column, &mut ColumnState) -> T + Sync,
+    ) -> Vec<(&Column, T)> {
+        let e = &self.eval;
+        let pairs: Vec<Vec<(&Column, T)>> = (0..=e.lmax as i64)
+            .into_par_iter()
+            .map_init(ColumnState::default, |state, m| {
+                let orders: &[i64] = if m == 0 { &[0] } else { &[m, -m] };
+                orders
+                    .iter()
+                    .map(|&m| {
+                        let col = &e.columns[e.column_index(m)];
+                        (col, f(col, state))
+                    })
+                    .collect()
+            })
+            .collect();
+        pairs.into_iter().flatten().collect()
+    }
+
+    /// Runs the recursion of `col` over every ring pair, handing the degrees to `sweep`.
+    fn sweep_column<S: Sweep>(&self, col: &Column, state: &mut ColumnState, sweep: &mut S) {
+        let starts = &self.rings.starts[self.eval.column_index(col.m)];
+        sweep_column(col, &self.rings.u, starts, state, sweep);
+    }
+
     /// Synthesis: `f(theta_j, phi_k) = sum_{l >= |s|, m} a_lm sY_lm` onto the grid; entries
     /// of `coeffs` with `l < |s|` are ignored.
+    ///
+    /// Order by order (orders in parallel): the north ring takes
+    /// `F_j(m) = sum_l a_lm Lambda_lm(theta_j)` and its mirror
+    /// `F_j'(-m) = sum_l a_{l,-m} Lambda_{l,-m}(pi - theta_j) = sum_l (-1)^{l+s} a_{l,-m} Lambda_lm(theta_j)`;
+    /// then one inverse FFT per ring.
     pub fn synthesis(&self, coeffs: &[Complex64], out: &mut [Complex64]) -> Result<()> {
         check_len("coefficients", num_coeffs(self.eval.lmax), coeffs.len())?;
         check_len("grid values", self.grid.len(), out.len())?;
         let np = self.grid.n_phi;
-        // North ring: sum_l a_lm Lambda_lm; south ring at order -m:
-        // sum_l a_{l,-m} Lambda_{l,-m}(pi - theta) = sum_l (-1)^{l+s} a_{l,-m} Lambda_lm(theta).
-        let north_c = self.eval.by_order(|l, m| coeffs[lm_index(l, m)]);
-        let south_c = self
-            .eval
-            .by_order(|l, m| coeffs[lm_index(l, -m)] * self.mirror_sign(l));
-        // Ring blocks in parallel, each with its own buffers; rings are disjoint.
-        let rings: Vec<Vec<(usize, Vec<Complex64>)>> = self
-            .ring_blocks()
-            .par_iter()
-            .map(|(half, pairs)| {
-                let mut north = vec![vec![Complex64::default(); np]; RINGS];
-                let mut south = north.clone();
-                let mut scratch = Vec::new();
-                self.eval
-                    .for_each_order_lanes(half, &mut scratch, |m, _, col| {
-                        let (n, s) = dot2_lanes(col, north_c.column(m), south_c.column(m));
-                        let (bn, bs) = (self.bin(m), self.bin(-m));
-                        for j in 0..pairs.len() {
-                            north[j][bn] = n[j];
-                            south[j][bs] = s[j];
-                        }
-                    });
-                let mut done = Vec::with_capacity(2 * pairs.len());
-                for ((&(jn, js), mut n), mut s) in pairs.iter().zip(north).zip(south) {
-                    self.inverse.process(&mut n);
-                    done.push((jn, n));
+        let chunks = self.rings.u.len();
+        let orders = self.par_columns(|col, state| {
+            let mut coef: Vec<[f64; 4]> = (col.l0..=self.eval.lmax)
+                .map(|l| {
+                    let (n, s) = (
+                        coeffs[lm_index(l, col.m)],
+                        coeffs[lm_index(l, -col.m)] * self.mirror_sign(l),
+                    );
+                    [n.re, n.im, s.re, s.im]
+                })
+                .collect();
+            coef.resize(col.coeffs.len(), [0.0; 4]);
+            let mut sweep = SynthesisSweep {
+                coef: &coef,
+                rings: vec![[f64x4::ZERO; 4]; chunks],
+            };
+            self.sweep_column(col, state, &mut sweep);
+            sweep.rings
+        });
+        out.fill(Complex64::default());
+        for (col, rings) in &orders {
+            let (bn, bs) = (self.bin(col.m), self.bin(-col.m));
+            for (c, v) in rings.iter().enumerate() {
+                let v = v.map(f64x4::to_array);
+                for j in 0..LANES {
+                    let Some((jn, js)) = self.rings.pair(c, j) else {
+                        break;
+                    };
+                    out[jn * np + bn] = Complex64::new(v[0][j], v[1][j]);
                     if js != jn {
-                        self.inverse.process(&mut s);
-                        done.push((js, s));
+                        out[js * np + bs] = Complex64::new(v[2][j], v[3][j]);
                     }
                 }
-                done
-            })
-            .collect();
-        for (j, values) in rings.into_iter().flatten() {
-            out[j * np..(j + 1) * np].copy_from_slice(&values);
+            }
         }
+        let scratch = self.inverse.get_inplace_scratch_len();
+        out.par_chunks_mut(np).for_each_init(
+            || vec![Complex64::default(); scratch],
+            |scratch, ring| self.inverse.process_with_scratch(ring, scratch),
+        );
         Ok(())
     }
 
     /// Analysis: `a_lm = <sY_lm, f>` by the exact rule; zeros where `l < |s|`.
+    ///
+    /// One FFT per ring gives `G_j(m)`; then order by order (orders in parallel)
+    /// `a_lm = sum_j w_j (Lambda_lm(theta_j) G_j(m) + (-1)^{l+s} Lambda_{l,-m}(theta_j) G_j'(m))`
+    /// over northern rings `j` with mirrors `j'`: the column of order `m` gives the north
+    /// sum of `a_{l,m}` and the mirror sum of `a_{l,-m}`. Each coefficient is summed by one
+    /// task in a fixed order, so the result does not depend on the thread count.
     pub fn analysis(&self, values: &[Complex64], out: &mut [Complex64]) -> Result<()> {
         check_len("grid values", self.grid.len(), values.len())?;
         check_len("coefficients", num_coeffs(self.eval.lmax), out.len())?;
         let np = self.grid.n_phi;
-        // a_lm = sum_j w_j (Lambda_lm(theta_j) G_j(m) + (-1)^{l+s} Lambda_{l,-m}(theta_j) G'_j(m))
-        // over northern rings j with mirrors j': the column of order m feeds the north sum
-        // of a_{l,m} and the mirror sum of a_{l,-m}.
-        let zero = |_, _| Complex64::default();
-        // A fixed number of groups of ring blocks in parallel, each with its own sums,
-        // added in group order (the rounding does not depend on the thread count).
-        let blocks = self.ring_blocks();
-        let per_group = blocks.len().div_ceil(GROUPS).max(1);
-        let sums: Vec<(OrderMajor, OrderMajor)> = blocks
-            .par_chunks(per_group)
-            .map(|group| {
-                let mut north_acc = self.eval.by_order(zero);
-                let mut south_acc = self.eval.by_order(zero);
-                let mut north = vec![vec![Complex64::default(); np]; RINGS];
-                let mut south = north.clone();
-                let mut scratch = Vec::new();
-                for (half, pairs) in group {
-                    let w: [f64; RINGS] = forward_ring_pairs(
-                        &self.grid,
-                        self.forward.as_ref(),
-                        values,
-                        pairs,
-                        (&mut north, &mut south),
-                    );
-                    self.eval
-                        .for_each_order_lanes(half, &mut scratch, |m, _, col| {
-                            let (bn, bs) = (self.bin(m), self.bin(-m));
-                            let mut gn = [Complex64::default(); RINGS];
-                            let mut gs = [Complex64::default(); RINGS];
-                            for j in 0..pairs.len() {
-                                gn[j] = north[j][bn] * w[j];
-                                gs[j] = south[j][bs] * w[j];
-                            }
-                            accumulate2_lanes(
-                                col,
-                                &gn,
-                                &gs,
-                                north_acc.column_mut(m),
-                                south_acc.column_mut(-m),
-                            );
-                        });
-                }
-                (north_acc, south_acc)
-            })
-            .collect();
-        let mut sums = sums.into_iter();
-        let (mut north_acc, mut south_acc) = sums
-            .next()
-            .unwrap_or_else(|| (self.eval.by_order(zero), self.eval.by_order(zero)));
-        for (n, s) in sums {
-            north_acc.add(&n);
-            south_acc.add(&s);
-        }
+        let mut spectra = values.to_vec();
+        let scratch = self.forward.get_inplace_scratch_len();
+        spectra.par_chunks_mut(np).for_each_init(
+            || vec![Complex64::default(); scratch],
+            |scratch, ring| self.forward.process_with_scratch(ring, scratch),
+        );
+        let sums = self.par_columns(|col, state| {
+            let (bn, bs) = (self.bin(col.m), self.bin(-col.m));
+            // [re, im] of the north spectra at m and of the mirror spectra at -m, weighted.
+            let phases: Vec<[f64x4; 4]> = self
+                .rings
+                .weights
+                .iter()
+                .enumerate()
+                .map(|(c, &w)| {
+                    let mut g = [[0.0; LANES]; 4];
+                    for j in 0..LANES {
+                        let Some((jn, js)) = self.rings.pair(c, j) else {
+                            break;
+                        };
+                        let (n, s) = (spectra[jn * np + bn], spectra[js * np + bs]);
+                        [g[0][j], g[1][j], g[2][j], g[3][j]] = [n.re, n.im, s.re, s.im];
+                    }
+                    std::array::from_fn(|q| f64x4::new(g[q]) * w[q])
+                })
+                .collect();
+            let mut sweep = AnalysisSweep {
+                phases: &phases,
+                sums: vec![[Complex64::default(); 2]; col.coeffs.len()],
+            };
+            self.sweep_column(col, state, &mut sweep);
+            sweep.sums
+        });
         out.fill(Complex64::default());
-        for col in &self.eval.columns {
-            let (n, s) = (north_acc.column(col.m), south_acc.column(col.m));
-            for (k, (a, b)) in n.iter().zip(s).enumerate() {
-                let l = col.l0 + k;
-                out[lm_index(l, col.m)] = a + b * self.mirror_sign(l);
+        // a_{l,m}: the north sum of column m plus the mirror sum of column -m.
+        for (col, s) in &sums {
+            for (l, [north, south]) in (col.l0..=self.eval.lmax).zip(s) {
+                out[lm_index(l, col.m)] += north;
+                out[lm_index(l, -col.m)] += south * self.mirror_sign(l);
             }
         }
         Ok(())
     }
 }
 
-/// Per lane, `(sum_k col[k][j] a[k], sum_k col[k][j] b[k])`.
-#[inline]
-fn dot2_lanes(
-    col: &[[f64; RINGS]],
-    a: &[Complex64],
-    b: &[Complex64],
-) -> ([Complex64; RINGS], [Complex64; RINGS]) {
-    let (mut ar, mut ai, mut br, mut bi) = ([0.0; RINGS], [0.0; RINGS], [0.0; RINGS], [0.0; RINGS]);
-    for ((p, x), y) in col.iter().zip(a).zip(b) {
-        for j in 0..RINGS {
-            ar[j] += p[j] * x.re;
-            ai[j] += p[j] * x.im;
-            br[j] += p[j] * y.re;
-            bi[j] += p[j] * y.im;
-        }
-    }
-    (
-        std::array::from_fn(|j| Complex64::new(ar[j], ai[j])),
-        std::array::from_fn(|j| Complex64::new(br[j], bi[j])),
-    )
+/// What a sweep does with the values `Lambda_lm(theta_j)` of one column at every lane
+/// vector, two degrees at a time (`k = l - l0` and `k + 1`, `k` even), vector by vector. The
+/// last pair may reach `l = lmax + 1`, where the values are zero.
+trait Sweep {
+    /// Whether vectors whose values are all below [`NEGLIGIBLE`] may be left out.
+    const SKIPS_NEGLIGIBLE: bool;
+    /// Per-pair state, held in registers over the vectors.
+    type Degrees;
+    /// Before the vectors of degrees `k`, `k + 1`.
+    fn begin(&mut self, k: usize) -> Self::Degrees;
+    /// The values of vector `c` at the two degrees.
+    fn chunk(&mut self, d: &mut Self::Degrees, c: usize, values: [f64x4; 2]);
+    /// After the vectors of degrees `k`, `k + 1`.
+    fn end(&mut self, k: usize, d: Self::Degrees);
 }
 
-/// `acc_a[k] += sum_j col[k][j] ga[j]` and `acc_b[k] += sum_j col[k][j] gb[j]`.
-#[inline]
-fn accumulate2_lanes(
-    col: &[[f64; RINGS]],
-    ga: &[Complex64; RINGS],
-    gb: &[Complex64; RINGS],
-    acc_a: &mut [Complex64],
-    acc_b: &mut [Complex64],
-) {
-    let g: [[f64; RINGS]; 4] = [
-        std::array::from_fn(|j| ga[j].re),
-        std::array::from_fn(|j| ga[j].im),
-        std::array::from_fn(|j| gb[j].re),
-        std::array::from_fn(|j| gb[j].im),
-    ];
-    for ((p, a), b) in col.iter().zip(acc_a).zip(acc_b) {
-        // Four partial sums per dot, so that the reductions vectorize.
-        let mut s = [[0.0; 4]; 4];
-        for c in 0..RINGS / 4 {
-            for (sr, gr) in s.iter_mut().zip(&g) {
-                for q in 0..4 {
-                    sr[q] += p[4 * c + q] * gr[4 * c + q];
-                }
+/// The column itself at `N` polar angles, `out[k][j]` (one row past `lmax` for the last
+/// pair).
+struct ColumnSweep<'a, const N: usize>(&'a mut [[f64; N]]);
+
+impl<const N: usize> Sweep for ColumnSweep<'_, N> {
+    const SKIPS_NEGLIGIBLE: bool = false;
+    type Degrees = usize;
+
+    #[inline(always)]
+    fn begin(&mut self, k: usize) -> usize {
+        k
+    }
+
+    #[inline(always)]
+    fn chunk(&mut self, k: &mut usize, c: usize, values: [f64x4; 2]) {
+        for (row, v) in self.0[*k..*k + 2].iter_mut().zip(values) {
+            let row = &mut row[c * LANES..];
+            let n = row.len().min(LANES);
+            row[..n].copy_from_slice(&v.as_array_ref()[..n]);
+        }
+    }
+
+    #[inline(always)]
+    fn end(&mut self, _: usize, _: usize) {}
+}
+
+/// Synthesis: per vector, `[re, im]` of `sum_l a_lm Lambda_lm` (north) and of
+/// `sum_l (-1)^{l+s} a_{l,-m} Lambda_lm` (mirror), from `coef[k] = [a.re, a.im, b.re, b.im]`
+/// (padded with zeros to the pairs).
+struct SynthesisSweep<'a> {
+    coef: &'a [[f64; 4]],
+    rings: Vec<[f64x4; 4]>,
+}
+
+impl Sweep for SynthesisSweep<'_> {
+    const SKIPS_NEGLIGIBLE: bool = true;
+    type Degrees = [[f64x4; 4]; 2];
+
+    #[inline(always)]
+    fn begin(&mut self, k: usize) -> Self::Degrees {
+        [
+            self.coef[k].map(f64x4::splat),
+            self.coef[k + 1].map(f64x4::splat),
+        ]
+    }
+
+    #[inline(always)]
+    fn chunk(&mut self, d: &mut Self::Degrees, c: usize, [v0, v1]: [f64x4; 2]) {
+        for ((acc, a0), a1) in self.rings[c].iter_mut().zip(&d[0]).zip(&d[1]) {
+            *acc = v0.mul_add(*a0, v1.mul_add(*a1, *acc));
+        }
+    }
+
+    #[inline(always)]
+    fn end(&mut self, _: usize, _: Self::Degrees) {}
+}
+
+/// Analysis: `sums[k] = [sum_j Lambda G_j(m) w_j, sum_j Lambda G_j'(-m) w_j]` from
+/// `phases[c] = [re, im]` of the weighted north and mirror spectra of vector `c` (`sums`
+/// padded to the pairs).
+struct AnalysisSweep<'a> {
+    phases: &'a [[f64x4; 4]],
+    sums: Vec<[Complex64; 2]>,
+}
+
+impl Sweep for AnalysisSweep<'_> {
+    const SKIPS_NEGLIGIBLE: bool = true;
+    type Degrees = [[f64x4; 4]; 2];
+
+    #[inline(always)]
+    fn begin(&mut self, _: usize) -> Self::Degrees {
+        [[f64x4::ZERO; 4]; 2]
+    }
+
+    #[inline(always)]
+    fn chunk(&mut self, d: &mut Self::Degrees, c: usize, values: [f64x4; 2]) {
+        for (dk, v) in d.iter_mut().zip(values) {
+            for (acc, g) in dk.iter_mut().zip(&self.phases[c]) {
+                *acc = v.mul_add(*g, *acc);
             }
         }
-        let d = s.map(|v| (v[0] + v[1]) + (v[2] + v[3]));
-        *a += Complex64::new(d[0], d[1]);
-        *b += Complex64::new(d[2], d[3]);
+    }
+
+    #[inline(always)]
+    fn end(&mut self, k: usize, d: Self::Degrees) {
+        for (sum, dk) in self.sums[k..k + 2].iter_mut().zip(d) {
+            let s = dk.map(f64x4::reduce_add);
+            *sum = [Complex64::new(s[0], s[1]), Complex64::new(s[2], s[3])];
+        }
+    }
+}
+
+/// The recursion state of one column at every lane vector (reused between columns).
+#[derive(Default)]
+struct ColumnState {
+    p1: Vec<f64x4>,
+    p2: Vec<f64x4>,
+    exp: Vec<[i32; LANES]>,
+    fac: Vec<f64x4>,
+}
+
+/// Values `|Lambda_lm(theta_j)| < 2^-64` that a sweep may leave out: the lane vectors of
+/// the rings nearest the poles while all their values are below it (the decaying side of the
+/// turning point `|m| ~ l sin theta`). Leaving them out changes an analysis coefficient by
+/// less than `2^-64 sum_j w_j (|G_j(m)| + |G_j'(m)|) <= 2^-64 * 4 pi max |f|` and a
+/// synthesis value by less than `2^-64 sum_lm |a_lm|`, far below rounding (proofs/swsh.md).
+const NEGLIGIBLE: f64 = f64::from_bits((1023 - 64) << 52);
+
+/// Runs the recursion of `col` at every lane vector (`u`, `starts` per vector) and hands
+/// the degrees pair by pair to `sweep`.
+///
+/// Values below the f64 range carry a binary exponent (a multiple of `SCALE_BITS`) and
+/// reach `sweep` times their output factor ([`lane_scale`]: values still below
+/// `2^-SCALE_BITS` are negligible and come out as zero or subnormal). The vectors
+/// `0..scaled` (rings from the pole) are those with such lanes: their exponents are
+/// checked every [`LANE_BLOCK`] degrees, and the others run without the factors.
+///
+/// With [`Sweep::SKIPS_NEGLIGIBLE`], the vectors `0..live` only run the recursion while
+/// all their values at both degrees of each pair are below [`NEGLIGIBLE`]; `live` starts
+/// past the last vector and moves to the first vector that reaches it (checked at every
+/// pair, so nothing at or above it is left out).
+fn sweep_column<S: Sweep>(
+    col: &Column,
+    u: &[f64x4],
+    starts: &[LaneStart],
+    st: &mut ColumnState,
+    sweep: &mut S,
+) {
+    // p_{-1} = 0, p_{-2} = -start: the first step [1, 1, 0] gives the start.
+    st.p1.clear();
+    st.p1.resize(starts.len(), f64x4::ZERO);
+    st.p2.clear();
+    st.p2.extend(starts.iter().map(|s| -s.0));
+    st.exp.clear();
+    st.exp.extend(starts.iter().map(|s| s.1));
+    st.fac.clear();
+    st.fac
+        .extend(st.exp.iter().map(|e| f64x4::new(lane_scale(e))));
+    let scaled_end = |exp: &[[i32; LANES]]| {
+        exp.iter()
+            .rposition(|e| e.iter().any(|&e| e < 0))
+            .map_or(0, |c| c + 1)
+    };
+    let mut scaled = scaled_end(&st.exp);
+    let mut live = if S::SKIPS_NEGLIGIBLE { starts.len() } else { 0 };
+    let n = col.coeffs.len();
+    let mut k = 0;
+    while k < n {
+        let end = if scaled > 0 {
+            (k + LANE_BLOCK).min(n)
+        } else {
+            n
+        };
+        sweep_degrees(&col.coeffs, u, st, sweep, k..end, scaled, &mut live);
+        if scaled > 0 {
+            let lanes = st.p1.iter_mut().zip(&mut st.p2);
+            let state = lanes.zip(st.exp.iter_mut().zip(&mut st.fac)).take(scaled);
+            for ((p1, p2), (e, f)) in state {
+                let (mut a, mut b) = (p1.to_array(), p2.to_array());
+                rescale_lanes(&mut a, &mut b, e);
+                (*p1, *p2, *f) = (f64x4::new(a), f64x4::new(b), f64x4::new(lane_scale(e)));
+            }
+            scaled = scaled_end(&st.exp[..scaled]);
+        }
+        k = end;
+    }
+}
+
+/// Degrees `range` (even bounds) of the recursion
+/// `p_l = A_l ((c_l - u) p_{l-1} - B_l p_{l-2})`, two per pass over the vectors; the
+/// vectors `0..scaled` take their output factors, the vectors `0..live` only recurse while
+/// negligible (see [`sweep_column`]).
+#[inline(always)]
+fn sweep_degrees<S: Sweep>(
+    coeffs: &[[f64; 3]],
+    u: &[f64x4],
+    st: &mut ColumnState,
+    sweep: &mut S,
+    range: std::ops::Range<usize>,
+    scaled: usize,
+    live: &mut usize,
+) {
+    let (p1, p2, fac) = (&mut st.p1[..], &mut st.p2[..], &st.fac[..]);
+    for k in range.step_by(2) {
+        let [a0, b0, c0] = coeffs[k].map(f64x4::splat);
+        let [a1, b1, c1] = coeffs[k + 1].map(f64x4::splat);
+        let step = |p1: &mut f64x4, p2: &mut f64x4, u: f64x4| {
+            let p = a0 * b0.mul_neg_add(*p2, (c0 - u) * *p1);
+            let q = a1 * b1.mul_neg_add(*p1, (c1 - u) * p);
+            *p2 = p;
+            *p1 = q;
+        };
+        // Near the poles: is any value of vector c at either degree not negligible?
+        let reaches = |p: f64x4, q: f64x4, f: f64x4| {
+            let big = (p * f).abs().fast_max((q * f).abs());
+            big.to_array().iter().any(|&b| b >= NEGLIGIBLE)
+        };
+        let mut big = f64x4::ZERO;
+        let near = p1[..*live].iter_mut().zip(&mut p2[..*live]);
+        for ((p1, p2), (&u, &f)) in near.zip(u.iter().zip(fac)) {
+            step(p1, p2, u);
+            big = big.fast_max((*p1 * f).abs()).fast_max((*p2 * f).abs());
+        }
+        let mut d = sweep.begin(k);
+        let mid = scaled.clamp(*live, u.len());
+        for c in *live..mid {
+            step(&mut p1[c], &mut p2[c], u[c]);
+            sweep.chunk(&mut d, c, [p2[c] * fac[c], p1[c] * fac[c]]);
+        }
+        let far = p1[mid..].iter_mut().zip(&mut p2[mid..]).zip(&u[mid..]);
+        for (i, ((p1, p2), &u)) in far.enumerate() {
+            step(p1, p2, u);
+            sweep.chunk(&mut d, mid + i, [*p2, *p1]);
+        }
+        if big.to_array().iter().any(|&b| b >= NEGLIGIBLE) {
+            let was = *live;
+            *live = (0..was)
+                .find(|&c| reaches(p2[c], p1[c], fac[c]))
+                .unwrap_or(was);
+            for c in *live..was {
+                sweep.chunk(&mut d, c, [p2[c] * fac[c], p1[c] * fac[c]]);
+            }
+        }
+        sweep.end(k, d);
+    }
+}
+
+/// The starts of the columns' recursions at `N` polar angles, column after column in walk
+/// order: seeds from their closed form, the others by the diagonal step from the outermost
+/// start of their side.
+struct StartWalk<const N: usize> {
+    log_c: [f64; N],
+    log_s: [f64; N],
+    /// `cos(theta/2) sin(theta/2)`.
+    cs: [f64; N],
+    /// Starts (mantissa, exponent) of the outermost orders so far, `m < 0` and `m > 0`.
+    edge: [([f64; N], [i32; N]); 2],
+    spin: usize,
+}
+
+impl<const N: usize> StartWalk<N> {
+    fn new(half: &[HalfAngle; N], spin: i64) -> Self {
+        Self {
+            log_c: half.map(|h| h.cos.log2()),
+            log_s: half.map(|h| h.sin.log2()),
+            cs: half.map(|h| h.cos * h.sin),
+            edge: [([0.0; N], [0; N]); 2],
+            spin: spin.unsigned_abs() as usize,
+        }
+    }
+
+    /// The start `Lambda_{l0,m}` of `col`, the next column in walk order.
+    fn next(&mut self, col: &Column) -> ([f64; N], [i32; N]) {
+        let side = usize::from(col.m > 0);
+        let start = match col.start {
+            Start::Seed { log, a, b, sign } => {
+                seed_lanes(log, a, b, sign, &self.log_c, &self.log_s)
+            }
+            Start::Diagonal(g) => {
+                let (d, e) = &mut self.edge[side];
+                for j in 0..N {
+                    d[j] *= g * self.cs[j];
+                    if d[j] != 0.0 && d[j].abs() < SMALL {
+                        d[j] *= BIG;
+                        e[j] -= SCALE_BITS;
+                    }
+                }
+                (*d, *e)
+            }
+        };
+        if col.m.unsigned_abs() as usize == self.spin {
+            self.edge[side] = start;
+        }
+        start
     }
 }
 
@@ -416,10 +729,14 @@ impl SpinEvaluator {
         self.lmax
     }
 
-    /// `f(l, m)` regrouped by order, `l = max(|m|, |s|)..=lmax` (the recursion's order).
-    fn by_order(&self, f: impl Fn(usize, i64) -> Complex64) -> OrderMajor {
-        let s = self.spin.unsigned_abs() as usize;
-        OrderMajor::new(self.lmax, |m| (m.unsigned_abs() as usize).max(s), f)
+    /// The index of the column of order `m` in walk order.
+    fn column_index(&self, m: i64) -> usize {
+        let s = self.spin.abs();
+        if m.abs() <= s {
+            (m + s) as usize
+        } else {
+            (2 * s + 1 + 2 * (m.abs() - s - 1)) as usize + usize::from(m > 0)
+        }
     }
 
     /// Walks the orders at `N` polar angles at once (given by their half angles):
@@ -436,58 +753,27 @@ impl SpinEvaluator {
         scratch: &mut Vec<[f64; N]>,
         mut f: impl FnMut(i64, usize, &[[f64; N]]),
     ) {
-        scratch.resize(self.lmax + 1, [0.0; N]);
-        let log_c = half.map(|h| h.cos.log2());
-        let log_s = half.map(|h| h.sin.log2());
-        let u: [f64; N] = std::array::from_fn(|j| 2.0 * half[j].sin * half[j].sin);
-        let cs: [f64; N] = std::array::from_fn(|j| half[j].cos * half[j].sin);
-        // Starts (mantissa, exponent) of the outermost orders so far, m < 0 and m > 0.
-        let mut edge = [([0.0; N], [0i32; N]); 2];
-        let s = self.spin.unsigned_abs() as usize;
+        scratch.resize(self.lmax + 2, [0.0; N]);
+        // Lane vectors over the N angles, the last one padded with the last angle.
+        let vectors = N.div_ceil(LANES);
+        let lane = |c: usize, j: usize| (c * LANES + j).min(N - 1);
+        let u: Vec<f64x4> = (0..vectors)
+            .map(|c| f64x4::new(std::array::from_fn(|j| half[lane(c, j)].u())))
+            .collect();
+        let mut walk = StartWalk::new(half, self.spin);
+        let mut state = ColumnState::default();
+        let mut starts = Vec::with_capacity(vectors);
         for col in &self.columns {
-            let side = usize::from(col.m > 0);
-            let (mut p1, mut exp) = match col.start {
-                Start::Seed { log, a, b, sign } => seed_lanes(log, a, b, sign, &log_c, &log_s),
-                Start::Diagonal(g) => {
-                    let (d, e) = &mut edge[side];
-                    for j in 0..N {
-                        d[j] *= g * cs[j];
-                        if d[j] != 0.0 && d[j].abs() < SMALL {
-                            d[j] *= BIG;
-                            e[j] -= SCALE_BITS;
-                        }
-                    }
-                    (*d, *e)
-                }
-            };
-            if col.m.unsigned_abs() as usize == s {
-                edge[side] = (p1, exp);
-            }
-            let out = &mut scratch[..=self.lmax - col.l0];
-            let mut p2 = [0.0; N];
-            let mut scaled = exp.iter().any(|&e| e < 0);
-            let mut fac = lane_scale(&exp);
-            for j in 0..N {
-                out[0][j] = p1[j] * fac[j];
-            }
-            let mut k = 1;
-            while k < out.len() {
-                let end = (k + LANE_BLOCK).min(out.len());
-                for (o, &[a, b, c]) in out[k..end].iter_mut().zip(&col.coeffs[k - 1..end - 1]) {
-                    for j in 0..N {
-                        let p = a * ((c - u[j]) * p1[j] - b * p2[j]);
-                        p2[j] = p1[j];
-                        p1[j] = p;
-                        o[j] = p * fac[j];
-                    }
-                }
-                if scaled {
-                    scaled = rescale_lanes(&mut p1, &mut p2, &mut exp);
-                    fac = lane_scale(&exp);
-                }
-                k = end;
-            }
-            f(col.m, col.l0, out);
+            let (p, e) = walk.next(col);
+            starts.clear();
+            starts.extend((0..vectors).map(|c| {
+                (
+                    f64x4::new(std::array::from_fn(|j| p[lane(c, j)])),
+                    std::array::from_fn(|j| e[lane(c, j)]),
+                )
+            }));
+            sweep_column(col, &u, &starts, &mut state, &mut ColumnSweep(scratch));
+            f(col.m, col.l0, &scratch[..=self.lmax - col.l0]);
         }
     }
 
@@ -559,26 +845,26 @@ fn half_log2_binom(n: usize, k: usize) -> f64 {
         .sum::<f64>()
 }
 
-/// `[A_l, B_l, c_l]` of order `m` for `m'`, `l = l0 + 1..=lmax`, on `Lambda = norm d`:
-/// `A_l norm_l / norm_{l-1}` and `B_l norm_{l-1} / norm_{l-2}`.
+/// The steps of order `m` for `m'` (see [`Column`]), on `Lambda = norm d`:
+/// `A_l norm_l / norm_{l-1}` and `B_l norm_{l-1} / norm_{l-2}` for `l = l0 + 1..=lmax`.
 fn recursion_coefficients(m: i64, mp: i64, l0: usize, lmax: usize, norms: &[f64]) -> Vec<[f64; 3]> {
     let (mf, mpf) = (m as f64, mp as f64);
-    (l0 + 1..=lmax)
-        .map(|l| {
-            let lf = l as f64;
-            let big_a =
-                lf * (2.0 * lf - 1.0) / ((lf * lf - mf * mf) * (lf * lf - mpf * mpf)).sqrt();
-            let l1 = lf - 1.0;
-            let big_b =
-                ((l1 * l1 - mf * mf) * (l1 * l1 - mpf * mpf)).sqrt() / (l1 * (2.0 * lf - 1.0));
-            let c = 1.0 - mf * mpf / (lf * l1);
-            [
-                big_a * (norms[l] / norms[l - 1]),
-                big_b * (norms[l - 1] / norms[l - 2]),
-                c,
-            ]
-        })
-        .collect()
+    let steps = (l0 + 1..=lmax).map(|l| {
+        let lf = l as f64;
+        let big_a = lf * (2.0 * lf - 1.0) / ((lf * lf - mf * mf) * (lf * lf - mpf * mpf)).sqrt();
+        let l1 = lf - 1.0;
+        let big_b = ((l1 * l1 - mf * mf) * (l1 * l1 - mpf * mpf)).sqrt() / (l1 * (2.0 * lf - 1.0));
+        let c = 1.0 - mf * mpf / (lf * l1);
+        [
+            big_a * (norms[l] / norms[l - 1]),
+            big_b * (norms[l - 1] / norms[l - 2]),
+            c,
+        ]
+    });
+    let n = lmax + 1 - l0;
+    let mut coeffs: Vec<[f64; 3]> = std::iter::once([1.0, 1.0, 0.0]).chain(steps).collect();
+    coeffs.resize(n.next_multiple_of(2), [0.0; 3]);
+    coeffs
 }
 
 /// The column of order `m`, `|m| <= |m'|`, for `m' = -s`, started from the closed form of
@@ -719,6 +1005,29 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Every coefficient and ring value is summed by one task in a fixed order.
+    #[test]
+    fn results_do_not_depend_on_the_thread_count() {
+        let lmax = 40;
+        let t = SpinTransform::new(2, lmax).unwrap();
+        let re = crate::verify::pseudo_random(num_coeffs(lmax), 8);
+        let c: Vec<Complex64> = re.iter().map(|&a| Complex64::new(a, -0.3 * a)).collect();
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let mut f = vec![Complex64::default(); t.grid().len()];
+                t.synthesis(&c, &mut f).unwrap();
+                let mut back = vec![Complex64::default(); c.len()];
+                t.analysis(&f, &mut back).unwrap();
+                (f, back)
+            })
+        };
+        assert_eq!(run(1), run(3));
     }
 
     #[test]
