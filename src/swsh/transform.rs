@@ -132,6 +132,10 @@ impl std::fmt::Debug for SpinTransform {
     }
 }
 
+/// Band limits below this run on the calling thread: handing so little work to the thread
+/// pool costs more than the work (measured on 2 vCPUs: 2.5x slower at `lmax = 8`).
+const PARALLEL_LMAX: usize = 32;
+
 /// Lanes (polar angles) per vector of the sweeps.
 const LANES: usize = 4;
 
@@ -255,20 +259,40 @@ impl SpinTransform {
         f: impl Fn(&Column, &mut ColumnState) -> T + Sync,
     ) -> Vec<(&Column, T)> {
         let e = &self.eval;
-        let pairs: Vec<Vec<(&Column, T)>> = (0..=e.lmax as i64)
-            .into_par_iter()
-            .map_init(ColumnState::default, |state, m| {
-                let orders: &[i64] = if m == 0 { &[0] } else { &[m, -m] };
-                orders
-                    .iter()
-                    .map(|&m| {
-                        let col = &e.columns[e.column_index(m)];
-                        (col, f(col, state))
-                    })
-                    .collect()
-            })
-            .collect();
+        let pair = |state: &mut ColumnState, m: i64| -> Vec<(&Column, T)> {
+            let orders: &[i64] = if m == 0 { &[0] } else { &[m, -m] };
+            orders
+                .iter()
+                .map(|&m| {
+                    let col = &e.columns[e.column_index(m)];
+                    (col, f(col, state))
+                })
+                .collect()
+        };
+        let orders = 0..=e.lmax as i64;
+        let pairs: Vec<Vec<(&Column, T)>> = if e.lmax < PARALLEL_LMAX {
+            let mut state = ColumnState::default();
+            orders.map(|m| pair(&mut state, m)).collect()
+        } else {
+            orders
+                .into_par_iter()
+                .map_init(ColumnState::default, pair)
+                .collect()
+        };
         pairs.into_iter().flatten().collect()
+    }
+
+    /// `fft` of every ring of `values` (ring-major), in place.
+    fn ring_ffts(&self, fft: &dyn Fft<f64>, values: &mut [Complex64]) {
+        let scratch = || vec![Complex64::default(); fft.get_inplace_scratch_len()];
+        if self.eval.lmax < PARALLEL_LMAX {
+            let mut scratch = scratch();
+            let rings = values.chunks_mut(self.grid.n_phi);
+            rings.for_each(|ring| fft.process_with_scratch(ring, &mut scratch));
+        } else {
+            let rings = values.par_chunks_mut(self.grid.n_phi);
+            rings.for_each_init(scratch, |s, ring| fft.process_with_scratch(ring, s));
+        }
     }
 
     /// Runs the recursion of `col` over every ring pair, handing the degrees to `sweep`.
@@ -323,11 +347,7 @@ impl SpinTransform {
                 }
             }
         }
-        let scratch = self.inverse.get_inplace_scratch_len();
-        out.par_chunks_mut(np).for_each_init(
-            || vec![Complex64::default(); scratch],
-            |scratch, ring| self.inverse.process_with_scratch(ring, scratch),
-        );
+        self.ring_ffts(self.inverse.as_ref(), out);
         Ok(())
     }
 
@@ -343,11 +363,7 @@ impl SpinTransform {
         check_len("coefficients", num_coeffs(self.eval.lmax), out.len())?;
         let np = self.grid.n_phi;
         let mut spectra = values.to_vec();
-        let scratch = self.forward.get_inplace_scratch_len();
-        spectra.par_chunks_mut(np).for_each_init(
-            || vec![Complex64::default(); scratch],
-            |scratch, ring| self.forward.process_with_scratch(ring, scratch),
-        );
+        self.ring_ffts(self.forward.as_ref(), &mut spectra);
         let sums = self.par_columns(|col, state| {
             let (bn, bs) = (self.bin(col.m), self.bin(-col.m));
             // [re, im] of the north spectra at m and of the mirror spectra at -m, weighted.
