@@ -407,8 +407,6 @@ impl SpinTransform {
 /// vector, two degrees at a time (`k = l - l0` and `k + 1`, `k` even), vector by vector. The
 /// last pair may reach `l = lmax + 1`, where the values are zero.
 trait Sweep {
-    /// Whether vectors whose values are all below [`NEGLIGIBLE`] may be left out.
-    const SKIPS_NEGLIGIBLE: bool;
     /// Per-pair state, held in registers over the vectors.
     type Degrees;
     /// Before the vectors of degrees `k`, `k + 1`.
@@ -417,32 +415,6 @@ trait Sweep {
     fn chunk(&mut self, d: &mut Self::Degrees, c: usize, values: [f64x4; 2]);
     /// After the vectors of degrees `k`, `k + 1`.
     fn end(&mut self, k: usize, d: Self::Degrees);
-}
-
-/// The column itself at `N` polar angles, `out[k][j]` (one row past `lmax` for the last
-/// pair).
-struct ColumnSweep<'a, const N: usize>(&'a mut [[f64; N]]);
-
-impl<const N: usize> Sweep for ColumnSweep<'_, N> {
-    const SKIPS_NEGLIGIBLE: bool = false;
-    type Degrees = usize;
-
-    #[inline(always)]
-    fn begin(&mut self, k: usize) -> usize {
-        k
-    }
-
-    #[inline(always)]
-    fn chunk(&mut self, k: &mut usize, c: usize, values: [f64x4; 2]) {
-        for (row, v) in self.0[*k..*k + 2].iter_mut().zip(values) {
-            let row = &mut row[c * LANES..];
-            let n = row.len().min(LANES);
-            row[..n].copy_from_slice(&v.as_array_ref()[..n]);
-        }
-    }
-
-    #[inline(always)]
-    fn end(&mut self, _: usize, _: usize) {}
 }
 
 /// Synthesis: per vector, `[re, im]` of `sum_l a_lm Lambda_lm` (north) and of
@@ -454,7 +426,6 @@ struct SynthesisSweep<'a> {
 }
 
 impl Sweep for SynthesisSweep<'_> {
-    const SKIPS_NEGLIGIBLE: bool = true;
     type Degrees = [[f64x4; 4]; 2];
 
     #[inline(always)]
@@ -485,7 +456,6 @@ struct AnalysisSweep<'a> {
 }
 
 impl Sweep for AnalysisSweep<'_> {
-    const SKIPS_NEGLIGIBLE: bool = true;
     type Degrees = [[f64x4; 4]; 2];
 
     #[inline(always)]
@@ -536,7 +506,7 @@ const NEGLIGIBLE: f64 = f64::from_bits((1023 - 64) << 52);
 /// `0..scaled` (rings from the pole) are those with such lanes: their exponents are
 /// checked every [`LANE_BLOCK`] degrees, and the others run without the factors.
 ///
-/// With [`Sweep::SKIPS_NEGLIGIBLE`], the vectors `0..live` only run the recursion while
+/// The vectors `0..live` only run the recursion while
 /// all their values at both degrees of each pair are below [`NEGLIGIBLE`]; `live` starts
 /// past the last vector and moves to the first vector that reaches it (checked at every
 /// pair, so nothing at or above it is left out).
@@ -563,7 +533,7 @@ fn sweep_column<S: Sweep>(
             .map_or(0, |c| c + 1)
     };
     let mut scaled = scaled_end(&st.exp);
-    let mut live = if S::SKIPS_NEGLIGIBLE { starts.len() } else { 0 };
+    let mut live = starts.len();
     let n = col.coeffs.len();
     let mut k = 0;
     while k < n {
@@ -769,27 +739,37 @@ impl SpinEvaluator {
         scratch: &mut Vec<[f64; N]>,
         mut f: impl FnMut(i64, usize, &[[f64; N]]),
     ) {
-        scratch.resize(self.lmax + 2, [0.0; N]);
-        // Lane vectors over the N angles, the last one padded with the last angle.
-        let vectors = N.div_ceil(LANES);
-        let lane = |c: usize, j: usize| (c * LANES + j).min(N - 1);
-        let u: Vec<f64x4> = (0..vectors)
-            .map(|c| f64x4::new(std::array::from_fn(|j| half[lane(c, j)].u())))
-            .collect();
+        scratch.resize(self.lmax + 1, [0.0; N]);
+        let u = half.map(|h| h.u());
         let mut walk = StartWalk::new(half, self.spin);
-        let mut state = ColumnState::default();
-        let mut starts = Vec::with_capacity(vectors);
         for col in &self.columns {
-            let (p, e) = walk.next(col);
-            starts.clear();
-            starts.extend((0..vectors).map(|c| {
-                (
-                    f64x4::new(std::array::from_fn(|j| p[lane(c, j)])),
-                    std::array::from_fn(|j| e[lane(c, j)]),
-                )
-            }));
-            sweep_column(col, &u, &starts, &mut state, &mut ColumnSweep(scratch));
-            f(col.m, col.l0, &scratch[..=self.lmax - col.l0]);
+            let (mut p1, mut exp) = walk.next(col);
+            let out = &mut scratch[..=self.lmax - col.l0];
+            let mut p2 = [0.0; N];
+            let mut scaled = exp.iter().any(|&e| e < 0);
+            let mut fac = lane_scale(&exp);
+            for j in 0..N {
+                out[0][j] = p1[j] * fac[j];
+            }
+            // col.coeffs[0] is the start step, col.coeffs[k] the step to degree k.
+            let mut k = 1;
+            while k < out.len() {
+                let end = (k + LANE_BLOCK).min(out.len());
+                for (o, &[a, b, c]) in out[k..end].iter_mut().zip(&col.coeffs[k..end]) {
+                    for j in 0..N {
+                        let p = a * ((c - u[j]) * p1[j] - b * p2[j]);
+                        p2[j] = p1[j];
+                        p1[j] = p;
+                        o[j] = p * fac[j];
+                    }
+                }
+                if scaled {
+                    scaled = rescale_lanes(&mut p1, &mut p2, &mut exp);
+                    fac = lane_scale(&exp);
+                }
+                k = end;
+            }
+            f(col.m, col.l0, out);
         }
     }
 
