@@ -87,6 +87,19 @@ pub fn finite(name: &'static str, value: f64) -> Result<f64> {
     }
 }
 
+/// Checks that every value is finite, naming the first that is not.
+pub fn finite_all<'a>(name: &'static str, values: impl IntoIterator<Item = &'a f64>) -> Result<()> {
+    match values.into_iter().find(|x| !x.is_finite()) {
+        Some(&value) => Err(Error::NonFinite { name, value }),
+        None => Ok(()),
+    }
+}
+
+/// [`finite_all`] over the real and imaginary parts of complex values.
+pub fn finite_complex(name: &'static str, values: &[num_complex::Complex64]) -> Result<()> {
+    finite_all(name, values.iter().flat_map(|z| [&z.re, &z.im]))
+}
+
 /// Checks that `len == expected`.
 pub fn check_len(name: &'static str, expected: usize, got: usize) -> Result<()> {
     if expected == got {

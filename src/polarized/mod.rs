@@ -43,7 +43,7 @@ pub use sparse::{SparsePshMatrix, Sparsity};
 pub use synthesis::reconstruct_image;
 pub use triple::{spin2_gaunt, visibility_transfer, visibility_transfer_quadrature, TripleTable};
 
-use crate::error::{check_len, Error, Result};
+use crate::error::{check_len, finite_all, Error, Result};
 use crate::sh::transform::ShTransform;
 use crate::sh::{lm_index, num_coeffs};
 use crate::stokes::StokesVector;
@@ -146,12 +146,7 @@ impl PshVector {
     ) -> Result<Self> {
         let mut v = Self::zeros(lmax, codomain, channels)?;
         check_len("PSH coefficients", v.data.len(), data.len())?;
-        if let Some(x) = data.iter().find(|x| !x.is_finite()) {
-            return Err(Error::NonFinite {
-                name: "PSH coefficient",
-                value: *x,
-            });
-        }
+        finite_all("PSH coefficient", &data)?;
         v.data = data;
         for c in 0..channels {
             for i in 0..4.min(num_coeffs(lmax)) {
@@ -487,12 +482,7 @@ impl PshTransform {
         let n = num_coeffs(self.lmax());
         for (c, field) in channels.iter().enumerate() {
             check_len("Stokes field", self.grid().len(), field.len())?;
-            if let Some(x) = field.iter().flatten().find(|x| !x.is_finite()) {
-                return Err(Error::NonFinite {
-                    name: "Stokes component",
-                    value: *x,
-                });
-            }
+            finite_all("Stokes component", field.iter().flatten())?;
             for (k, &p) in codomain.components().iter().enumerate() {
                 if p == 0 || p == 3 {
                     let values: Vec<f64> = field.iter().map(|s| s[p]).collect();

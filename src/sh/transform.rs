@@ -12,7 +12,7 @@
 use super::grid::SphereGrid;
 use super::legendre::{Legendre, Polar};
 use super::{lm_index, num_coeffs};
-use crate::error::{check_len, Result};
+use crate::error::{check_len, finite_all, finite_complex, Result};
 use num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
 use std::f64::consts::{FRAC_1_SQRT_2, SQRT_2};
@@ -95,6 +95,7 @@ impl ShTransform {
     /// Synthesis PSH (2) of complex coefficients (flat order) onto the grid.
     pub fn synthesis_complex(&self, coeffs: &[Complex64], out: &mut [Complex64]) -> Result<()> {
         check_len("coefficients", num_coeffs(self.lmax), coeffs.len())?;
+        finite_complex("SH coefficient", coeffs)?;
         check_len("grid values", self.grid.len(), out.len())?;
         let np = self.grid.n_phi;
         let packed = pack_m_major(self.lmax, |l, m| coeffs[lm_index(l, m)]);
@@ -132,6 +133,7 @@ impl ShTransform {
     /// Analysis PSH (3) of complex grid values into coefficients (flat order).
     pub fn analysis_complex(&self, values: &[Complex64], out: &mut [Complex64]) -> Result<()> {
         check_len("grid values", self.grid.len(), values.len())?;
+        finite_complex("grid value", values)?;
         check_len("coefficients", num_coeffs(self.lmax), out.len())?;
         let np = self.grid.n_phi;
         let mut acc = pack_m_major(self.lmax, |_, _| Complex64::default());
@@ -172,6 +174,7 @@ impl ShTransform {
     /// Synthesis PSH (2) of real coefficients (real SH PSH (12)) onto the grid.
     pub fn synthesis_real(&self, coeffs: &[f64], out: &mut [f64]) -> Result<()> {
         check_len("coefficients", num_coeffs(self.lmax), coeffs.len())?;
+        finite_all("SH coefficient", coeffs)?;
         check_len("grid values", self.grid.len(), out.len())?;
         let np = self.grid.n_phi;
         // With A_m, B_m the cosine and sine Legendre sums (sqrt(2) folded in for m > 0),
@@ -224,6 +227,7 @@ impl ShTransform {
     /// Analysis PSH (3) of a real field into real coefficients (real SH PSH (12)).
     pub fn analysis_real(&self, values: &[f64], out: &mut [f64]) -> Result<()> {
         check_len("grid values", self.grid.len(), values.len())?;
+        finite_all("grid value", values)?;
         check_len("coefficients", num_coeffs(self.lmax), out.len())?;
         let np = self.grid.n_phi;
         // acc(m >= 0)[l - m] = sum over rings of weight Pbar_lm G_m: real part gives the
@@ -515,5 +519,24 @@ mod tests {
         let mut f = vec![0.0; t.grid().len()];
         assert!(t.synthesis_real(&[0.0; 3], &mut f).is_err());
         assert!(ShTransform::with_grid(5, SphereGrid::new(3, 20).unwrap()).is_err());
+    }
+
+    #[test]
+    fn non_finite_inputs_are_errors_naming_the_value() {
+        let t = ShTransform::new(3).unwrap();
+        let (n, g) = (num_coeffs(3), t.grid().len());
+        let mut c = vec![0.0; n];
+        let mut f = vec![0.0; g];
+        c[5] = f64::NAN;
+        let e = t.synthesis_real(&c, &mut f).unwrap_err().to_string();
+        assert!(e.contains("SH coefficient") && e.contains("NaN"), "{e}");
+        f[7] = f64::INFINITY;
+        assert!(t.analysis_real(&f, &mut c).is_err());
+        let mut z = vec![Complex64::default(); g];
+        z[2] = Complex64::new(0.0, f64::NAN);
+        let mut a = vec![Complex64::default(); n];
+        assert!(t.analysis_complex(&z, &mut a).is_err());
+        a[1] = Complex64::new(f64::NEG_INFINITY, 0.0);
+        assert!(t.synthesis_complex(&a, &mut z).is_err());
     }
 }

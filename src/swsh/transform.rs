@@ -30,7 +30,7 @@
 //! rings near the poles while their values are negligible (below `2^-64`, bound in
 //! `proofs/swsh.md`).
 
-use crate::error::{check_len, Error, Result};
+use crate::error::{check_len, finite_complex, Error, Result};
 use crate::sh::grid::SphereGrid;
 use crate::sh::legendre::{lane_scale, rescale_lanes, BIG, LANE_BLOCK, SCALE_BITS, SMALL};
 use crate::sh::{lm_index, num_coeffs};
@@ -311,6 +311,7 @@ impl SpinTransform {
     pub fn synthesis(&self, coeffs: &[Complex64], out: &mut [Complex64]) -> Result<()> {
         check_len("coefficients", num_coeffs(self.eval.lmax), coeffs.len())?;
         check_len("grid values", self.grid.len(), out.len())?;
+        finite_complex("spin SH coefficient", coeffs)?;
         let np = self.grid.n_phi;
         let chunks = self.rings.u.len();
         let orders = self.par_columns(|col, state| {
@@ -361,6 +362,7 @@ impl SpinTransform {
     pub fn analysis(&self, values: &[Complex64], out: &mut [Complex64]) -> Result<()> {
         check_len("grid values", self.grid.len(), values.len())?;
         check_len("coefficients", num_coeffs(self.eval.lmax), out.len())?;
+        finite_complex("grid value", values)?;
         let np = self.grid.n_phi;
         let mut spectra = values.to_vec();
         self.ring_ffts(self.forward.as_ref(), &mut spectra);
@@ -581,16 +583,14 @@ fn sweep_degrees<S: Sweep>(
             *p2 = p;
             *p1 = q;
         };
-        // Near the poles: is any value of vector c at either degree not negligible?
-        let reaches = |p: f64x4, q: f64x4, f: f64x4| {
-            let big = (p * f).abs().fast_max((q * f).abs());
-            big.to_array().iter().any(|&b| b >= NEGLIGIBLE)
-        };
+        // Near the poles: the largest value of vector c at either degree, per lane.
+        let peak = |p: f64x4, q: f64x4, f: f64x4| (p * f).abs().fast_max((q * f).abs());
+        let reaches = |v: f64x4| v.to_array().iter().any(|&b| b >= NEGLIGIBLE);
         let mut big = f64x4::ZERO;
         let near = p1[..*live].iter_mut().zip(&mut p2[..*live]);
         for ((p1, p2), (&u, &f)) in near.zip(u.iter().zip(fac)) {
             step(p1, p2, u);
-            big = big.fast_max((*p1 * f).abs()).fast_max((*p2 * f).abs());
+            big = big.fast_max(peak(*p1, *p2, f));
         }
         let mut d = sweep.begin(k);
         let mid = scaled.clamp(*live, u.len());
@@ -603,10 +603,10 @@ fn sweep_degrees<S: Sweep>(
             step(p1, p2, u);
             sweep.chunk(&mut d, mid + i, [*p2, *p1]);
         }
-        if big.to_array().iter().any(|&b| b >= NEGLIGIBLE) {
+        if reaches(big) {
             let was = *live;
             *live = (0..was)
-                .find(|&c| reaches(p2[c], p1[c], fac[c]))
+                .find(|&c| reaches(peak(p1[c], p2[c], fac[c])))
                 .unwrap_or(was);
             for c in *live..was {
                 sweep.chunk(&mut d, c, [p2[c] * fac[c], p1[c] * fac[c]]);
@@ -1030,5 +1030,18 @@ mod tests {
     fn bad_spins_are_errors() {
         assert!(SpinTransform::new(0, 4).is_err());
         assert!(SpinTransform::new(5, 4).is_err());
+    }
+
+    #[test]
+    fn non_finite_inputs_are_errors_naming_the_value() {
+        let t = SpinTransform::new(2, 4).unwrap();
+        let mut c = vec![Complex64::default(); num_coeffs(4)];
+        let mut f = vec![Complex64::default(); t.grid().len()];
+        c[9] = Complex64::new(f64::NAN, 0.0);
+        let e = t.synthesis(&c, &mut f).unwrap_err().to_string();
+        assert!(e.contains("spin SH coefficient") && e.contains("NaN"), "{e}");
+        f[3] = Complex64::new(0.0, f64::INFINITY);
+        let e = t.analysis(&f, &mut c).unwrap_err().to_string();
+        assert!(e.contains("grid value") && e.contains("inf"), "{e}");
     }
 }
