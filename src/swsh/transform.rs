@@ -1039,7 +1039,10 @@ mod tests {
         let mut f = vec![Complex64::default(); t.grid().len()];
         c[9] = Complex64::new(f64::NAN, 0.0);
         let e = t.synthesis(&c, &mut f).unwrap_err().to_string();
-        assert!(e.contains("spin SH coefficient") && e.contains("NaN"), "{e}");
+        assert!(
+            e.contains("spin SH coefficient") && e.contains("NaN"),
+            "{e}"
+        );
         f[3] = Complex64::new(0.0, f64::INFINITY);
         let e = t.analysis(&f, &mut c).unwrap_err().to_string();
         assert!(e.contains("grid value") && e.contains("inf"), "{e}");
