@@ -69,7 +69,7 @@ fn scalar_only(scene: &Scene, blocks: &[Vec<Vec<f64>>], hits: &[Option<Hit>]) ->
                     let mut y = vec![0.0; n];
                     eval.real(t, ph, &mut y).unwrap();
                     std::array::from_fn(|c| {
-                        let shadowed = gaunt.product(&v, &env0[c]).unwrap();
+                        let shadowed = gaunt.product(v.data(), &env0[c]).unwrap();
                         let local = to_local.rotate(&shadowed).unwrap();
                         let out: Vec<f64> = mats[c]
                             .chunks_exact(n)

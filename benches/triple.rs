@@ -1,17 +1,17 @@
 //! Criterion benches of shadowed transfer by triple products (ids as in the issue tracker).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use psh::polarized::{visibility_transfer, TripleTable};
+use psh::polarized::{visibility_transfer, PshVector, TripleTable};
 use psh::verify::pseudo_random;
 
 /// PSH (54)-(56): the transfer matrix of l < 5 from a visibility vector of l < 10.
 fn triple(c: &mut Criterion) {
     let (lv, lmax) = (9, 4);
-    let v = pseudo_random((lv + 1) * (lv + 1), 5);
+    let v = PshVector::scalar(lv, pseudo_random((lv + 1) * (lv + 1), 5)).unwrap();
     let mut grp = c.benchmark_group("triple");
     // One call, couplings included.
     grp.bench_function("visibility_to_transfer/5", |b| {
-        b.iter(|| visibility_transfer(black_box(&v), lv, lmax).unwrap())
+        b.iter(|| visibility_transfer(black_box(&v), lmax).unwrap())
     });
     // With the couplings precomputed.
     let t = TripleTable::new(lv, lmax).unwrap();

@@ -66,6 +66,10 @@ pub enum Error {
     #[error("malformed file {}: {reason}", path.display())]
     MalformedFile { path: PathBuf, reason: String },
 
+    /// Shared data a computation needs (`../shared/data`, or `$PSH_DATA_DIR`) is absent.
+    #[error("shared data missing: {} (set PSH_DATA_DIR)", path.display())]
+    DataMissing { path: PathBuf },
+
     /// An I/O failure on a named file.
     #[error("I/O error on {}: {source}", path.display())]
     Io {

@@ -9,7 +9,9 @@
 use crate::error::{Error, Result};
 use crate::geometry::frame::{CubeMapFrameField, Frame, FrameField, ThetaPhiFrameField};
 use crate::geometry::image_grid::{CubeCross, Equirect, PixelGrid};
-use crate::polarized::{project_cube_map, project_image, reconstruct_image, Codomain, PshVector};
+use crate::polarized::{
+    project_cube_map, project_image, reconstruct_image, Codomain, FieldArgument, PshVector,
+};
 
 /// The pixel layout of a map.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -150,6 +152,7 @@ impl StokesMap {
 
     /// The band-limited map of `v` on `layout`: reconstruction PSH (30) at every texel.
     pub fn reconstruct(v: &PshVector, layout: MapLayout) -> Result<Self> {
+        FieldArgument::TowardsSource.expect(v.argument(), "PSH vector", "a map")?;
         let channels = reconstruct_image(v, &layout, &layout.frame_field())?;
         Ok(Self { layout, channels })
     }

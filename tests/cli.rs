@@ -183,7 +183,14 @@ fn project_rotate_reconstruct_pipeline() {
     };
     let j = run(&["project", &p("in_s0.exr"), "--lmax", "4", "-o", &p("a.npz")]);
     assert_eq!(j["layout"], serde_json::json!([96, 128]));
-    let projected = npz::read_psh_npz(p("a.npz")).unwrap();
+    // The files are indexed by travel (polarsh's convention); the map and `v` by the
+    // direction towards the source.
+    let read = |f: &str| {
+        npz::read_psh_npz(p(f))
+            .unwrap()
+            .converted(psh::polarized::FieldArgument::TowardsSource)
+    };
+    let projected = read("a.npz");
     let diff = |a: &psh::polarized::PshVector, b: &psh::polarized::PshVector| {
         a.data()
             .iter()
@@ -200,7 +207,7 @@ fn project_rotate_reconstruct_pipeline() {
         "-o",
         &p("b.npz"),
     ]);
-    let rotated = npz::read_psh_npz(p("b.npz")).unwrap();
+    let rotated = read("b.npz");
     let r = psh::sh::wigner::rotation_from_rotvec([0.3, -1.1, 0.7]).unwrap();
     let want = PshRotation::new(&r, lmax)
         .unwrap()
@@ -221,7 +228,7 @@ fn project_rotate_reconstruct_pipeline() {
         assert!(dir.join(f).exists(), "{f}");
     }
     run(&["project", &p("c_s%d.exr"), "--lmax", "4", "-o", &p("d.npz")]);
-    let back = npz::read_psh_npz(p("d.npz")).unwrap();
+    let back = read("d.npz");
     assert!(diff(&back, &rotated) < 5e-3, "{}", diff(&back, &rotated));
 }
 
@@ -400,7 +407,16 @@ fn convolve_with_builtin_and_table_kernels() {
         .unwrap()
         .convolve(&v)
         .unwrap();
-    assert_eq!(npz::read_psh_npz(p("a.npz")).unwrap(), want);
+    // The file holds the field in the travel convention; the linear-zenith kernel is
+    // the same operator in both conventions.
+    let diff = |a: &psh::polarized::PshVector| {
+        a.converted(psh::polarized::FieldArgument::TowardsSource)
+            .data()
+            .iter()
+            .zip(want.data())
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+    };
+    assert!(diff(&npz::read_psh_npz(p("a.npz")).unwrap()) < 1e-13);
 
     let pi = std::f64::consts::PI;
     let mut table =
@@ -426,12 +442,7 @@ fn convolve_with_builtin_and_table_kernels() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let got = npz::read_psh_npz(p("b.npz")).unwrap();
-    let err = got
-        .data()
-        .iter()
-        .zip(want.data())
-        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    let err = diff(&npz::read_psh_npz(p("b.npz")).unwrap());
     assert!(err < 1e-13, "{err}");
 
     std::fs::write(p("bad.csv"), "0,1\n").unwrap();
@@ -509,4 +520,51 @@ fn lights_demo_writes_table_and_images() {
         assert!(dir.join(f).is_file(), "{f}");
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `psh apply`: an isotropic matrix file applied to a vector file equals the library's
+/// product of the two as read (both in polarsh's convention, no conversion); a vector below
+/// the matrix's band limit is an error naming the file.
+#[test]
+fn apply_isotropic_matrix_file() {
+    use psh::io::npz;
+    use psh::polarized::{isotropic_pairs, Codomain, FieldArgument, IsotropicMatrix};
+    let dir = std::env::temp_dir().join(format!("psh-cli-apply-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    let lmax = 4;
+    let k = isotropic_pairs(lmax).len();
+    let blocks: Vec<f64> = (0..3 * k * 16)
+        .map(|q| {
+            let (jo, ji) = isotropic_pairs(lmax)[(q / 16) % k];
+            let (po, pi) = ((q / 4) % 4, q % 4);
+            if (jo < 4 && (po == 1 || po == 2)) || (ji < 4 && (pi == 1 || pi == 2)) {
+                0.0
+            } else {
+                ((q * 37) % 113) as f64 / 113.0 - 0.5
+            }
+        })
+        .collect();
+    let m = IsotropicMatrix::from_blocks(lmax, 3, &blocks)
+        .unwrap()
+        .labelled(FieldArgument::Travel, FieldArgument::Travel);
+    npz::write_isotropic_npz(p("m.npz"), &m).unwrap();
+    let v = psh::verify::random_psh(6, Codomain::NoCircular, 3, 43)
+        .unwrap()
+        .labelled(FieldArgument::Travel);
+    npz::write_psh_npz(p("v.npz"), &v).unwrap();
+    let out = psh(&["apply", &p("m.npz"), &p("v.npz"), "-o", &p("out.npz")]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let got = npz::read_psh_npz(p("out.npz")).unwrap();
+    assert_eq!(got, m.apply(&v.truncated(lmax).unwrap()).unwrap());
+    npz::write_psh_npz(p("low.npz"), &v.truncated(2).unwrap()).unwrap();
+    let bad = psh(&["apply", &p("m.npz"), &p("low.npz"), "-o", &p("x.npz")]);
+    assert!(!bad.status.success());
+    let e = String::from_utf8_lossy(&bad.stderr);
+    assert!(e.contains("low.npz") && e.contains("l <= 4"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -53,6 +53,9 @@ fn check(shadows: bool) {
                     let vis = if shadows {
                         let y = sh_real(2 * l, t, p).unwrap();
                         vt.visibility
+                            .as_ref()
+                            .unwrap()
+                            .data()
                             .iter()
                             .zip(&y)
                             .map(|(a, b)| a * b)

@@ -18,7 +18,7 @@
 //! block for `m = 0`), which is how [`KernelCoefficients::convolve`] applies it.
 
 use super::kernel::{ConvolutionKernel, KernelValue};
-use super::{Codomain, PshMatrix, PshVector};
+use super::{Codomain, FieldArgument, PshMatrix, PshVector};
 use crate::error::{Error, Result};
 use crate::sh::grid::GaussLegendre;
 use crate::sh::harmonics::real_from_complex;
@@ -264,8 +264,9 @@ impl KernelCoefficients {
     }
 
     /// The convolution theorem PSH (69a)-(69c): the PSH coefficients of `k * f`, all four
-    /// Stokes components (a kernel may create `s3` or `s0` from the others). `O(lmax^2)`
-    /// per channel. Error: `f` of another band limit.
+    /// Stokes components (a kernel may create `s3` or `s0` from the others), indexed as
+    /// `f` is (the kernel acts between the argument directions of the field, in their
+    /// frames PSH (61)). `O(lmax^2)` per channel. Error: `f` of another band limit.
     pub fn convolve(&self, f: &PshVector) -> Result<PshVector> {
         let lmax = self.lmax();
         if f.lmax() != lmax {
@@ -312,11 +313,12 @@ impl KernelCoefficients {
                 }
             }
         }
-        PshVector::from_data(lmax, Codomain::Full, f.channels(), out)
+        Ok(PshVector::from_data(lmax, Codomain::Full, f.channels(), out)?.labelled(f.argument()))
     }
 
     /// The equivalent coefficient matrix (PSH (40)-(41)): block diagonal in `l`, non-zero
-    /// only between orders `+-m`.
+    /// only between orders `+-m`; from and to fields indexed by the direction towards the
+    /// source (the same numbers act on fields of travel directions, `labelled` so).
     pub fn to_matrix(&self) -> Result<PshMatrix> {
         let lmax = self.lmax();
         let n = num_coeffs(lmax);
@@ -341,7 +343,8 @@ impl KernelCoefficients {
                 }
             }
         }
-        PshMatrix::from_data(lmax, data)
+        Ok(PshMatrix::from_data(lmax, data)?
+            .labelled(FieldArgument::TowardsSource, FieldArgument::TowardsSource))
     }
 }
 
@@ -550,5 +553,5 @@ pub fn rotation_average(m: &PshMatrix, n: usize) -> Result<PshMatrix> {
             }
         }
     }
-    PshMatrix::from_data(m.lmax(), acc)
+    Ok(PshMatrix::from_data(m.lmax(), acc)?.labelled(m.input(), m.output()))
 }

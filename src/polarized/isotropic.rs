@@ -2,35 +2,36 @@
 //! the normal `z` has a coefficient matrix with `P = 0` unless `|m_i| = |m_o|` (PSH (52)),
 //! and a spin 2-to-2 block with `P~iso = 0` unless `m_i = m_o` and `P~conj = 0` unless
 //! `m_i = -m_o` (PSH (53)). [`IsotropicMatrix`] stores only the `O(lmax^3)` blocks that
-//! PSH (52) allows, in the order of polarsh's `ISOBI2` layout:
+//! PSH (52) allows, per colour channel, in the order of polarsh's `ISOBI2` layout
+//! (its `SH.py`, `lms2idx` / `idx2lms`; `docs/conventions.md`):
 //!
-//! - degree pairs by shells `n = 0, 1, ...`: `(n, 0), (0, n), (n, 1), (1, n), ...,
-//!   (n, n-1), (n-1, n), (n, n)` as `(l_o, l_i)`;
-//! - within a pair, `(m_o, m_i)` in lexicographic order with `|m_o| = |m_i| <= min(l_o, l_i)`;
+//! - degree pairs by shells `n = max(l_o, l_i) = 0, 1, ...`, within a shell by
+//!   `l = min(l_o, l_i) = 0, 1, ..., n`, and for `l < n` first `(l_o, l_i) = (n, l)` then
+//!   `(l, n)`;
+//! - within a pair of `k = min(l_o, l_i)`, the entries `(m_i, m_o)` with `|m_o| = |m_i| <= k`
+//!   in lexicographic order of `(m_i, m_o)`: `(-k, -k), (-k, k), ..., (0, 0), (1, -1), (1, 1),
+//!   ..., (k, -k), (k, k)`;
 //! - each entry a 4 x 4 block `[p_o][p_i]`.
-//!
-//! (Worked out from the shared `SHMat_*_ISOBI2.npz` files: 10280 entries for `l < 20`, the
-//! zero pattern of the spin-2 rows and columns below `l = 2`, and the symmetry of the
-//! spin 0-to-0 block under `m -> -m`; `docs/conventions.md`.)
 
 use super::matrix::apply_by_channel;
-use super::{PshMatrix, PshVector};
+use super::{FieldArgument, PshMatrix, PshVector};
 use crate::error::{check_len, Error, Result};
-use crate::sh::{lm_index, num_coeffs};
+use crate::sh::{lm_index, lm_of_index, num_coeffs};
 use crate::stokes::complex_pair;
+use std::collections::HashMap;
 
 /// The `(j_o, j_i)` flat index pairs of the isotropic layout for band limit `lmax`.
 pub fn isotropic_pairs(lmax: usize) -> Vec<(usize, usize)> {
     let mut out = Vec::new();
     let mut block = |lo: usize, li: usize| {
         let k = lo.min(li) as i64;
-        for mo in -k..=k {
-            let mis: &[i64] = if mo == 0 {
+        for mi in -k..=k {
+            let mos: &[i64] = if mi == 0 {
                 &[0]
             } else {
-                &[-mo.abs(), mo.abs()]
+                &[-mi.abs(), mi.abs()]
             };
-            for &mi in mis {
+            for &mo in mos {
                 out.push((lm_index(lo, mo), lm_index(li, mi)));
             }
         }
@@ -46,9 +47,9 @@ pub fn isotropic_pairs(lmax: usize) -> Vec<(usize, usize)> {
 }
 
 /// The band limit whose isotropic layout has `k` entries, if any: pair `(l_o, l_i)` has
-/// `4 min(l_o, l_i) + 1` entries (one `m_i` for `m_o = 0`, two otherwise).
+/// `4 min(l_o, l_i) + 1` entries (one `m_o` for `m_i = 0`, two otherwise).
 pub fn isotropic_lmax(k: usize) -> Option<usize> {
-    let mut total = 0;
+    let mut total = 0usize;
     for lmax in 0..=crate::sh::MAX_DEGREE {
         // Shell `lmax` adds the pairs with max(l_o, l_i) = lmax.
         total += 4 * lmax + 1 + (0..lmax).map(|l| 2 * (4 * l + 1)).sum::<usize>();
@@ -68,9 +69,9 @@ pub fn isotropy_defect(m: &PshMatrix) -> f64 {
     let scale = m.data().iter().fold(0.0f64, |a, x| a.max(x.abs()));
     let mut worst = 0.0f64;
     for jo in 0..n {
-        let (_, mo) = crate::sh::lm_of_index(jo);
+        let (_, mo) = lm_of_index(jo);
         for ji in 0..n {
-            let (_, mi) = crate::sh::lm_of_index(ji);
+            let (_, mi) = lm_of_index(ji);
             for po in 0..4 {
                 for pi in 0..4 {
                     let spin22 = (1..3).contains(&po) && (1..3).contains(&pi);
@@ -96,18 +97,23 @@ pub fn isotropy_defect(m: &PshMatrix) -> f64 {
     }
 }
 
-/// A coefficient matrix in the isotropic layout (module docs): `blocks[k]` is the 4 x 4
-/// block `[p_o][p_i]` of pair `k` of [`isotropic_pairs`].
+/// The coefficient matrices of an isotropic operator in the isotropic layout (module
+/// docs), one per colour channel: `blocks[c * K + k]` is the 4 x 4 block `[p_o][p_i]` of
+/// pair `k` of [`isotropic_pairs`] in channel `c`. Input and output fields are indexed as
+/// [`Self::input`] and [`Self::output`] say.
 #[derive(Clone, Debug, PartialEq)]
 pub struct IsotropicMatrix {
     lmax: usize,
+    channels: usize,
+    input: FieldArgument,
+    output: FieldArgument,
     pairs: Vec<(usize, usize)>,
     blocks: Vec<[[f64; 4]; 4]>,
 }
 
 impl IsotropicMatrix {
-    /// The sparse form of an isotropic matrix. Error: an isotropy defect
-    /// ([`isotropy_defect`]) above `tolerance`, naming it.
+    /// The sparse form of an isotropic matrix (one channel, its conventions). Error: an
+    /// isotropy defect ([`isotropy_defect`]) above `tolerance`, naming it.
     pub fn from_dense(m: &PshMatrix, tolerance: f64) -> Result<Self> {
         let defect = isotropy_defect(m);
         if defect > tolerance {
@@ -128,33 +134,104 @@ impl IsotropicMatrix {
             .collect();
         Ok(Self {
             lmax: m.lmax(),
+            channels: 1,
+            input: m.input(),
+            output: m.output(),
             pairs,
             blocks,
         })
     }
 
-    /// A matrix from blocks in the isotropic layout (`4 x 4` each, flat
-    /// `[k][p_o][p_i]`). Errors: wrong length, non-finite or outside PSH (31).
-    pub fn from_blocks(lmax: usize, data: &[f64]) -> Result<Self> {
+    /// Matrices from blocks in the isotropic layout (`4 x 4` each, flat
+    /// `[c][k][p_o][p_i]` for `channels` channels), input indexed by the direction towards
+    /// the source and output by the direction of travel (as [`PshMatrix::zeros`];
+    /// [`Self::labelled`] declares others). Errors: no channels, wrong length, non-finite
+    /// entries or entries outside PSH (31).
+    pub fn from_blocks(lmax: usize, channels: usize, data: &[f64]) -> Result<Self> {
+        if channels == 0 {
+            return Err(Error::InvalidArgument {
+                name: "channels",
+                value: "0".into(),
+                reason: "at least one channel".into(),
+            });
+        }
         let pairs = isotropic_pairs(lmax);
-        check_len("isotropic blocks", pairs.len() * 16, data.len())?;
-        let mut dense = PshMatrix::zeros(lmax)?.data().to_vec();
-        let n = num_coeffs(lmax);
-        for (k, &(jo, ji)) in pairs.iter().enumerate() {
-            for q in 0..16 {
-                dense[(jo * n + ji) * 16 + q] = data[k * 16 + q];
+        let per_channel = pairs.len().checked_mul(16).ok_or(Error::InvalidArgument {
+            name: "lmax",
+            value: lmax.to_string(),
+            reason: "the isotropic layout's size overflows".into(),
+        })?;
+        check_len(
+            "isotropic blocks",
+            per_channel.saturating_mul(channels),
+            data.len(),
+        )?;
+        crate::error::finite_all("isotropic matrix entry", data)?;
+        for (q, x) in data.iter().enumerate() {
+            let (jo, ji) = pairs[(q / 16) % pairs.len()];
+            let (po, pi) = ((q / 4) % 4, q % 4);
+            let spin2_low = (jo < 4 && (po == 1 || po == 2)) || (ji < 4 && (pi == 1 || pi == 2));
+            if spin2_low && *x != 0.0 {
+                return Err(Error::InvalidArgument {
+                    name: "isotropic matrix entry",
+                    value: format!(
+                        "channel {}, entry {}, [{po}][{pi}] = {x}",
+                        q / per_channel,
+                        (q / 16) % pairs.len()
+                    ),
+                    reason: "spin-2 rows and columns start at l = 2 (PSH (31))".into(),
+                });
             }
         }
-        // Validates the entries (finite, PSH (31)).
-        PshMatrix::from_data(lmax, dense)?;
-        let blocks = (0..pairs.len())
-            .map(|k| std::array::from_fn(|po| std::array::from_fn(|pi| data[k * 16 + po * 4 + pi])))
+        let blocks = data
+            .chunks_exact(16)
+            .map(|b| std::array::from_fn(|po| std::array::from_fn(|pi| b[po * 4 + pi])))
             .collect();
         Ok(Self {
             lmax,
+            channels,
+            input: FieldArgument::TowardsSource,
+            output: FieldArgument::Travel,
             pairs,
             blocks,
         })
+    }
+
+    /// The channels of `parts` side by side. Errors: no parts, or parts of different band
+    /// limits or conventions, naming the first that differs.
+    pub fn from_channels(parts: &[IsotropicMatrix]) -> Result<Self> {
+        let first = parts.first().ok_or_else(|| Error::InvalidArgument {
+            name: "isotropic matrices",
+            value: "[]".into(),
+            reason: "at least one matrix to stack".into(),
+        })?;
+        let key = |m: &IsotropicMatrix| (m.lmax, m.input, m.output);
+        if let Some((k, m)) = parts.iter().enumerate().find(|(_, m)| key(m) != key(first)) {
+            return Err(Error::InvalidArgument {
+                name: "isotropic matrix",
+                value: format!("#{k}: lmax {}, {} -> {}", m.lmax, m.input, m.output),
+                reason: format!(
+                    "the first has lmax {}, {} -> {}",
+                    first.lmax, first.input, first.output
+                ),
+            });
+        }
+        Ok(Self {
+            channels: parts.iter().map(|m| m.channels).sum(),
+            blocks: parts
+                .iter()
+                .flat_map(|m| m.blocks.iter().copied())
+                .collect(),
+            ..first.clone()
+        })
+    }
+
+    /// The same entries declared to map fields indexed by `input` to fields indexed by
+    /// `output`, without changing them ([`Self::with_input`] converts).
+    pub fn labelled(mut self, input: FieldArgument, output: FieldArgument) -> Self {
+        self.input = input;
+        self.output = output;
+        self
     }
 
     /// The band limit.
@@ -162,60 +239,113 @@ impl IsotropicMatrix {
         self.lmax
     }
 
-    /// The blocks, flat `[k][p_o][p_i]` in the isotropic layout.
+    /// The number of colour channels.
+    pub fn channels(&self) -> usize {
+        self.channels
+    }
+
+    /// What the argument of the input field means.
+    pub fn input(&self) -> FieldArgument {
+        self.input
+    }
+
+    /// What the argument of the output field means.
+    pub fn output(&self) -> FieldArgument {
+        self.output
+    }
+
+    /// The blocks, flat `[c][k][p_o][p_i]` in the isotropic layout.
     pub fn blocks(&self) -> Vec<f64> {
         self.blocks.iter().flatten().flatten().copied().collect()
     }
 
-    /// The dense matrix.
-    pub fn to_dense(&self) -> Result<PshMatrix> {
+    /// Channel `c` as a dense matrix (its conventions). Error: `c` out of range.
+    pub fn to_dense(&self, c: usize) -> Result<PshMatrix> {
+        let blocks = self.channel_blocks(c)?;
         let n = num_coeffs(self.lmax);
         let mut data = vec![0.0; n * n * 16];
-        for (&(jo, ji), b) in self.pairs.iter().zip(&self.blocks) {
+        for (&(jo, ji), b) in self.pairs.iter().zip(blocks) {
             for po in 0..4 {
                 for pi in 0..4 {
                     data[((jo * n + ji) * 4 + po) * 4 + pi] = b[po][pi];
                 }
             }
         }
-        PshMatrix::from_data(self.lmax, data)
+        Ok(PshMatrix::from_data(self.lmax, data)?.labelled(self.input, self.output))
     }
 
-    /// `P T` for `T` the travel-direction map on the input side, in the sparse layout:
-    /// the same as [`PshMatrix::travel_input`] of the dense matrix (polarsh's convention
-    /// to psh's and back; an involution). `T` maps column `(l, m, p)` to
-    /// `(-1)^l (l, m, 0)`, `-(-1)^l (l, m, 3)`, `(-1)^(l+m) (l, -m, 1)`,
-    /// `-(-1)^(l+m) (l, -m, 2)` ([`PshVector::travel_convention`]), and `m_i -> -m_i`
-    /// stays within a pair of the layout (the entry beside it).
-    pub fn travel_input(&self) -> Result<IsotropicMatrix> {
+    /// The blocks of channel `c`. Error: `c` out of range.
+    fn channel_blocks(&self, c: usize) -> Result<&[[[f64; 4]; 4]]> {
+        if c >= self.channels {
+            return Err(Error::InvalidArgument {
+                name: "channel",
+                value: c.to_string(),
+                reason: format!("{} channels", self.channels),
+            });
+        }
+        Ok(&self.blocks[c * self.pairs.len()..][..self.pairs.len()])
+    }
+
+    /// The same operator with its input indexed by `input`: itself when it already is,
+    /// else `P T` in the sparse layout, the same as [`PshMatrix::with_input`] of the dense
+    /// matrix. `T` maps column `(l, m, p)` to `(-1)^l (l, m, 0)`, `-(-1)^l (l, m, 3)`,
+    /// `(-1)^(l+m) (l, -m, 1)`, `-(-1)^(l+m) (l, -m, 2)` ([`PshVector::converted`]), and
+    /// `m_i -> -m_i` keeps `|m_i| = |m_o|`, so the layout holds the partner entry.
+    pub fn with_input(&self, input: FieldArgument) -> Result<IsotropicMatrix> {
+        if input == self.input {
+            return Ok(self.clone());
+        }
+        let index: HashMap<(usize, usize), usize> = self
+            .pairs
+            .iter()
+            .enumerate()
+            .map(|(k, &p)| (p, k))
+            .collect();
+        let k_pairs = self.pairs.len();
         let mut blocks = self.blocks.clone();
-        for (k, &(_, ji)) in self.pairs.iter().enumerate() {
-            let (l, m) = crate::sh::lm_of_index(ji);
-            let partner = match m.signum() {
-                -1 => k + 1,
-                1 => k - 1,
-                _ => k,
-            };
+        for (k, &(jo, ji)) in self.pairs.iter().enumerate() {
+            let (l, m) = lm_of_index(ji);
+            let partner = index[&(jo, lm_index(l, -m))];
             let sl = if l % 2 == 0 { 1.0 } else { -1.0 };
             let slm = if (l as i64 + m) % 2 == 0 { 1.0 } else { -1.0 };
-            for po in 0..4 {
-                blocks[k][po][0] = sl * self.blocks[k][po][0];
-                blocks[k][po][3] = -sl * self.blocks[k][po][3];
-                blocks[k][po][1] = slm * self.blocks[partner][po][1];
-                blocks[k][po][2] = -slm * self.blocks[partner][po][2];
+            for c in 0..self.channels {
+                let (own, other) = (
+                    self.blocks[c * k_pairs + k],
+                    self.blocks[c * k_pairs + partner],
+                );
+                let b = &mut blocks[c * k_pairs + k];
+                for po in 0..4 {
+                    b[po][0] = sl * own[po][0];
+                    b[po][3] = -sl * own[po][3];
+                    b[po][1] = slm * other[po][1];
+                    b[po][2] = -slm * other[po][2];
+                }
             }
         }
         Ok(IsotropicMatrix {
-            lmax: self.lmax,
-            pairs: self.pairs.clone(),
+            input,
             blocks,
+            ..self.clone()
         })
     }
 
-    /// PSH (41) over the stored blocks only: `O(lmax^3)` per channel.
+    /// PSH (41) over the stored blocks only, `O(lmax^3)` per channel: channel `c` of `f`
+    /// through channel `c` of the matrix, or every channel through a one-channel matrix;
+    /// the result is indexed as [`Self::output`]. Errors: `f` of another band limit, not
+    /// indexed as [`Self::input`], or of another number of channels.
     pub fn apply(&self, f: &PshVector) -> Result<PshVector> {
-        apply_by_channel(self.lmax, f, |x, out| {
-            for (&(jo, ji), b) in self.pairs.iter().zip(&self.blocks) {
+        if self.channels != 1 && self.channels != f.channels() {
+            return Err(Error::InvalidArgument {
+                name: "PSH vector",
+                value: format!("{} channels", f.channels()),
+                reason: format!("the isotropic matrix has {} channels", self.channels),
+            });
+        }
+        let k_pairs = self.pairs.len();
+        apply_by_channel((self.lmax, self.input, self.output), f, |c, x, out| {
+            let c = if self.channels == 1 { 0 } else { c };
+            let blocks = &self.blocks[c * k_pairs..][..k_pairs];
+            for (&(jo, ji), b) in self.pairs.iter().zip(blocks) {
                 let o = &mut out[jo * 4..][..4];
                 for po in 0..4 {
                     o[po] += b[po].iter().zip(&x[ji]).map(|(a, y)| a * y).sum::<f64>();
@@ -229,8 +359,22 @@ impl IsotropicMatrix {
 mod tests {
     use super::*;
 
+    /// The position of entry `(l_i, l_o, m_i, m_o)` in polarsh's `ISOBI2` layout by the
+    /// closed form of its definition (`lms2idx`): the entries of the shells below
+    /// `n = max(l_o, l_i)`, `n (4 n^2 - 3 n + 2) / 3`; of the lower pairs of the shell,
+    /// `2 k (2 k - 1)` for `k = min(l_o, l_i)`; `4 k + 1` more when `l_i > l_o`; then
+    /// `2 (k + m_i)` and `+1` when `m_o > m_i`, `-1` when `m_o < m_i`.
+    fn polarsh_index(li: usize, lo: usize, mi: i64, mo: i64) -> usize {
+        let (n, k) = (li.max(lo) as i64, li.min(lo) as i64);
+        let shells = n * (4 * n * n - 3 * n + 2) / 3;
+        let lower = 2 * k * (2 * k - 1);
+        let second = if li > lo { 4 * k + 1 } else { 0 };
+        let within = 2 * (k + mi) + (mo - mi).signum();
+        (shells + lower + second + within) as usize
+    }
+
     #[test]
-    fn layout_matches_polarsh_counts() {
+    fn layout_is_polarsh_isobi2() {
         // SHMat_*_L20_ISOBI2.npz: 10280 entries for l < 20.
         assert_eq!(isotropic_pairs(19).len(), 10280);
         let p = isotropic_pairs(2);
@@ -238,8 +382,15 @@ mod tests {
         assert_eq!(p[1], (lm_index(1, 0), 0));
         assert_eq!(p[8], (lm_index(2, 0), 0));
         assert_eq!(p[9], (0, lm_index(2, 0)));
+        // Pair (2, 2) from entry 20: (m_i, m_o) = (-2, -2), then (-2, 2).
         assert_eq!(p[20], (lm_index(2, -2), lm_index(2, -2)));
-        assert_eq!(p[21], (lm_index(2, -2), lm_index(2, 2)));
+        assert_eq!(p[21], (lm_index(2, 2), lm_index(2, -2)));
+        for lmax in 0..9 {
+            for (k, &(jo, ji)) in isotropic_pairs(lmax).iter().enumerate() {
+                let ((lo, mo), (li, mi)) = (lm_of_index(jo), lm_of_index(ji));
+                assert_eq!(polarsh_index(li, lo, mi, mo), k, "{lo} {mo} {li} {mi}");
+            }
+        }
         for l in 0..12 {
             assert_eq!(isotropic_lmax(isotropic_pairs(l).len()), Some(l));
             assert_eq!(isotropic_lmax(isotropic_pairs(l).len() + 1), None);
@@ -247,28 +398,79 @@ mod tests {
         assert_eq!(isotropic_lmax(10280), Some(19));
     }
 
-    /// The sparse travel map equals the dense one, and is an involution.
-    #[test]
-    fn travel_input_sparse_equals_dense() {
-        let lmax = 6;
-        let k = isotropic_pairs(lmax).len();
-        let mut data: Vec<f64> = (0..k * 16)
-            .map(|i| ((i * 7919) % 1000) as f64 / 1000.0 - 0.5)
-            .collect();
-        // Zero the entries outside PSH (31).
-        for (q, &(jo, ji)) in isotropic_pairs(lmax).iter().enumerate() {
-            for po in 0..4 {
-                for pi in 0..4 {
-                    if (jo < 4 && (po == 1 || po == 2)) || (ji < 4 && (pi == 1 || pi == 2)) {
-                        data[(q * 4 + po) * 4 + pi] = 0.0;
-                    }
+    /// Blocks of two channels with distinct entries (zero outside PSH (31)).
+    fn distinct_blocks(lmax: usize) -> Vec<f64> {
+        let pairs = isotropic_pairs(lmax);
+        (0..2 * pairs.len() * 16)
+            .map(|q| {
+                let (jo, ji) = pairs[(q / 16) % pairs.len()];
+                let (po, pi) = ((q / 4) % 4, q % 4);
+                if (jo < 4 && (po == 1 || po == 2)) || (ji < 4 && (pi == 1 || pi == 2)) {
+                    0.0
+                } else {
+                    ((q * 7919) % 1000) as f64 / 1000.0 - 0.5
                 }
-            }
+            })
+            .collect()
+    }
+
+    /// The sparse map to the other input convention equals the dense one in every channel,
+    /// and is an involution.
+    #[test]
+    fn with_input_sparse_equals_dense() {
+        let lmax = 6;
+        let m = IsotropicMatrix::from_blocks(lmax, 2, &distinct_blocks(lmax)).unwrap();
+        let sparse = m.with_input(FieldArgument::Travel).unwrap();
+        assert_eq!(sparse.input(), FieldArgument::Travel);
+        for c in 0..2 {
+            let dense = m
+                .to_dense(c)
+                .unwrap()
+                .with_input(FieldArgument::Travel)
+                .unwrap();
+            assert_eq!(sparse.to_dense(c).unwrap(), dense);
         }
-        let m = IsotropicMatrix::from_blocks(lmax, &data).unwrap();
-        let sparse = m.travel_input().unwrap();
-        let dense = m.to_dense().unwrap().travel_input().unwrap();
-        assert_eq!(sparse.to_dense().unwrap(), dense);
-        assert_eq!(sparse.travel_input().unwrap(), m);
+        assert_eq!(sparse.with_input(FieldArgument::TowardsSource).unwrap(), m);
+    }
+
+    /// A two-channel matrix applies channel by channel; a one-channel one to every
+    /// channel; other channel counts and the other input convention are errors.
+    #[test]
+    fn channels_apply_in_one_call() {
+        let lmax = 4;
+        let m = IsotropicMatrix::from_blocks(lmax, 2, &distinct_blocks(lmax)).unwrap();
+        let f = crate::verify::random_psh(lmax, super::super::Codomain::Full, 2, 5).unwrap();
+        let out = m.apply(&f).unwrap();
+        assert_eq!(out.argument(), FieldArgument::Travel);
+        for c in 0..2 {
+            let want = m
+                .to_dense(c)
+                .unwrap()
+                .apply(&f.channel(c).unwrap())
+                .unwrap();
+            assert_eq!(out.channel(c).unwrap(), want);
+        }
+        let one =
+            IsotropicMatrix::from_blocks(lmax, 1, &distinct_blocks(lmax)[..m.blocks().len() / 2])
+                .unwrap();
+        let both = one.apply(&f).unwrap();
+        assert_eq!(
+            both.channel(1).unwrap(),
+            one.apply(&f.channel(1).unwrap()).unwrap()
+        );
+        let three = crate::verify::random_psh(lmax, super::super::Codomain::Full, 3, 6).unwrap();
+        assert!(m.apply(&three).is_err());
+        assert!(m.apply(&f.converted(FieldArgument::Travel)).is_err());
+        assert!(IsotropicMatrix::from_channels(&[
+            m.clone(),
+            m.with_input(FieldArgument::Travel).unwrap()
+        ])
+        .is_err());
+        assert_eq!(
+            IsotropicMatrix::from_channels(&[one.clone(), one])
+                .unwrap()
+                .channels(),
+            2
+        );
     }
 }

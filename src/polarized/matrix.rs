@@ -4,7 +4,7 @@
 //! (PSH (42)-(43)) with the spin 2-to-2 block by complex pair separation (PSH (44)-(51),
 //! `proofs/coefficient-matrices.md`).
 
-use super::{Codomain, PshTransform, PshVector};
+use super::{Codomain, FieldArgument, PshTransform, PshVector};
 use crate::error::{check_len, Error, Result};
 use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
 use crate::sh::num_coeffs;
@@ -22,26 +22,34 @@ pub enum SpinBlock22 {
 
 /// A PSH coefficient matrix (full Stokes in and out) of band limit `lmax`:
 /// `data[((j_o n + j_i) 4 + p_o) 4 + p_i]`, `j = l*l + l + m`, `n = (lmax+1)^2`. Entries
-/// outside the index set PSH (31) are zero.
+/// outside the index set PSH (31) are zero. Its input and output fields are indexed as
+/// [`Self::input`] and [`Self::output`] say.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PshMatrix {
     lmax: usize,
+    input: FieldArgument,
+    output: FieldArgument,
     data: Vec<f64>,
 }
 
 impl PshMatrix {
-    /// The zero matrix.
+    /// The zero matrix of an operator like a pBRDF's: input indexed by the direction
+    /// towards the source, output by the direction of travel ([`Self::labelled`] declares
+    /// others).
     pub fn zeros(lmax: usize) -> Result<Self> {
         crate::sh::check_lmax(lmax)?;
         let n = num_coeffs(lmax);
         Ok(Self {
             lmax,
+            input: FieldArgument::TowardsSource,
+            output: FieldArgument::Travel,
             data: vec![0.0; n * n * 16],
         })
     }
 
-    /// A matrix from its entries (layout of the type); errors: wrong length, non-finite
-    /// entries, non-zero entries outside PSH (31).
+    /// A matrix from its entries (layout of the type), input indexed by the direction
+    /// towards the source and output by the direction of travel, as [`Self::zeros`];
+    /// errors: wrong length, non-finite entries, non-zero entries outside PSH (31).
     pub fn from_data(lmax: usize, data: Vec<f64>) -> Result<Self> {
         let mut m = Self::zeros(lmax)?;
         check_len("PSH matrix entries", m.data.len(), data.len())?;
@@ -82,6 +90,24 @@ impl PshMatrix {
         &self.data
     }
 
+    /// What the argument of the input field means.
+    pub fn input(&self) -> FieldArgument {
+        self.input
+    }
+
+    /// What the argument of the output field means.
+    pub fn output(&self) -> FieldArgument {
+        self.output
+    }
+
+    /// The same entries declared to map fields indexed by `input` to fields indexed by
+    /// `output`, without changing them ([`Self::with_input`] converts).
+    pub fn labelled(mut self, input: FieldArgument, output: FieldArgument) -> PshMatrix {
+        self.input = input;
+        self.output = output;
+        self
+    }
+
     fn index(&self, jo: usize, ji: usize, po: usize, pi: usize) -> usize {
         ((jo * num_coeffs(self.lmax) + ji) * 4 + po) * 4 + pi
     }
@@ -92,10 +118,12 @@ impl PshMatrix {
     }
 
     /// PSH (41): the coefficients of `P_F[f]` from those of `f` (every channel; components
-    /// outside `f`'s codomain read as zero, the result is full Stokes).
+    /// outside `f`'s codomain read as zero, the result is full Stokes, indexed as
+    /// [`Self::output`]). Errors: `f` of another band limit, or not indexed as
+    /// [`Self::input`].
     pub fn apply(&self, f: &PshVector) -> Result<PshVector> {
         let n = num_coeffs(self.lmax);
-        apply_by_channel(self.lmax, f, |x, out| {
+        apply_by_channel((self.lmax, self.input, self.output), f, |_, x, out| {
             for jo in 0..n {
                 for po in 0..4 {
                     let mut s = 0.0;
@@ -245,8 +273,10 @@ pub fn project_operator(
 
 /// The Mueller transform field of a coefficient matrix (the inverse of PSH (40)):
 /// `P(w_i, w_o) = sum P_{j_o p_o, j_i p_i} Y_{j_o p_o}(w_o) Y_{j_i p_i}(w_i)^T` in the
-/// theta-phi frames, by orthonormality of the PSH basis. `O(lmax^4)` per pair of
-/// directions: for tests and references.
+/// theta-phi frames, by orthonormality of the PSH basis, read as a [`MuellerField`] (input
+/// towards the source, output along the travel: a matrix labelled so, as
+/// [`project_operator`] makes them). `O(lmax^4)` per pair of directions: for tests and
+/// references.
 #[derive(Clone, Debug)]
 pub struct MatrixKernel<'a>(pub &'a PshMatrix);
 
@@ -334,17 +364,21 @@ impl PshMatrix {
         };
         let dp = rotate_columns(self.rows())?;
         let dpdt = transpose(&rotate_columns(transpose(&dp))?);
-        Self::from_rows(self.lmax, &dpdt)
+        Ok(Self::from_rows(self.lmax, &dpdt)?.labelled(self.input, self.output))
     }
 
-    /// `P T` for `T` the travel-direction map on the input side
-    /// ([`PshVector::travel_convention`]): the matrix of the same operator when its input
-    /// field is indexed by the direction of travel, polarsh's convention (an involution;
-    /// `T` is symmetric, so `P T = (T P^T)^T`).
-    pub fn travel_input(&self) -> Result<PshMatrix> {
+    /// The same operator with its input field indexed by `input`: itself when it already
+    /// is, else `P T` for `T` the map between the two conventions
+    /// ([`PshVector::converted`]; `T` is an involution and symmetric, so
+    /// `P T = (T P^T)^T`).
+    pub fn with_input(&self, input: FieldArgument) -> Result<PshMatrix> {
+        if input == self.input {
+            return Ok(self.clone());
+        }
         let n = num_coeffs(self.lmax);
-        let rows = PshVector::from_data(self.lmax, Codomain::Full, n * 4, self.rows())?;
-        Self::from_rows(self.lmax, rows.travel_convention().data())
+        let rows = PshVector::from_data(self.lmax, Codomain::Full, n * 4, self.rows())?
+            .labelled(self.input);
+        Ok(Self::from_rows(self.lmax, rows.converted(input).data())?.labelled(input, self.output))
     }
 
     /// The block of degrees `l <= lmax` (band-limiting both sides). Error: `lmax` above
@@ -362,7 +396,7 @@ impl PshMatrix {
         for jo in 0..m {
             data.extend_from_slice(&self.data[(jo * n) * 16..(jo * n + m) * 16]);
         }
-        PshMatrix::from_data(lmax, data)
+        Ok(PshMatrix::from_data(lmax, data)?.labelled(self.input, self.output))
     }
 
     /// The entries row-major over `(j_o p_o)` then `(j_i p_i)`.
@@ -399,13 +433,14 @@ impl PshMatrix {
     }
 }
 
-/// PSH (41) channel by channel: `product(x, out)` gets the input coefficients
+/// PSH (41) channel by channel for a matrix of band limit `lmax` from fields indexed by
+/// `input` to fields indexed by `output`: `product(c, x, out)` gets the channel and its input coefficients
 /// `x[j] = [f_j0, f_j1, f_j2, f_j3]` (zero outside `f`'s codomain) and fills
-/// `out[j * 4 + p]`. Error: `f` of another band limit than `lmax`.
+/// `out[j * 4 + p]`. Errors: `f` of another band limit, or not indexed by `input`.
 pub(super) fn apply_by_channel(
-    lmax: usize,
+    (lmax, input, output): (usize, FieldArgument, FieldArgument),
     f: &PshVector,
-    product: impl Fn(&[[f64; 4]], &mut [f64]),
+    product: impl Fn(usize, &[[f64; 4]], &mut [f64]),
 ) -> Result<PshVector> {
     if f.lmax() != lmax {
         return Err(Error::InvalidArgument {
@@ -414,6 +449,7 @@ pub(super) fn apply_by_channel(
             reason: format!("the matrix has lmax {lmax}"),
         });
     }
+    input.expect(f.argument(), "PSH vector", "the matrix's input")?;
     let n = num_coeffs(lmax);
     let mut out = vec![0.0; f.channels() * n * 4];
     for (c, o) in out.chunks_exact_mut(n * 4).enumerate() {
@@ -423,9 +459,9 @@ pub(super) fn apply_by_channel(
                 std::array::from_fn(|p| f.get(c, l, m, p).unwrap_or(0.0))
             })
             .collect();
-        product(&x, o);
+        product(c, &x, o);
     }
-    PshVector::from_data(lmax, Codomain::Full, f.channels(), out)
+    Ok(PshVector::from_data(lmax, Codomain::Full, f.channels(), out)?.labelled(output))
 }
 
 /// Whether flat index `j` with Stokes component `p` is in PSH (31).
@@ -456,22 +492,26 @@ mod tests {
         assert!(PshMatrix::from_data(3, bad).is_err());
     }
 
-    /// `P T` applied to `T f` is `P f` (T an involution), and `travel_input` is one too.
+    /// `P T` applied to `T f` is `P f` (T an involution), and `with_input` is one too;
+    /// a vector in the other convention is an error, not a silent flip.
     #[test]
-    fn travel_input_composes_with_the_vector_map() {
+    fn with_input_composes_with_the_vector_map() {
         let m = crate::verify::random_psh_matrix(4, 7).unwrap();
         let f = crate::verify::random_psh(4, Codomain::Full, 2, 8).unwrap();
-        let pt = m.travel_input().unwrap();
+        let pt = m.with_input(FieldArgument::Travel).unwrap();
+        assert_eq!(pt.input(), FieldArgument::Travel);
+        assert!(pt.apply(&f).is_err());
         let (a, b) = (
-            pt.apply(&f.travel_convention()).unwrap(),
+            pt.apply(&f.converted(FieldArgument::Travel)).unwrap(),
             m.apply(&f).unwrap(),
         );
+        assert_eq!(a.argument(), FieldArgument::Travel);
         let err = a
             .data()
             .iter()
             .zip(b.data())
             .fold(0.0f64, |x, (p, q)| x.max((p - q).abs()));
         assert!(err < 1e-13, "{err}");
-        assert_eq!(pt.travel_input().unwrap(), m);
+        assert_eq!(pt.with_input(FieldArgument::TowardsSource).unwrap(), m);
     }
 }

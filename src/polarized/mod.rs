@@ -14,6 +14,7 @@
 //! `coeff[channel][l*l + l + m][p]`, `p` running over the codomain's components.
 
 mod angular;
+mod argument;
 mod convolution;
 mod cube;
 mod evaluator;
@@ -28,6 +29,7 @@ mod synthesis;
 mod triple;
 
 pub use angular::apply_angular;
+pub use argument::FieldArgument;
 pub use convolution::{
     convolve_angular, kernel_coefficients, project_to_convolution, rotation_average,
     KernelCoefficients,
@@ -106,18 +108,21 @@ impl Codomain {
 }
 
 /// A PSH coefficient vector PSH (34): real coefficients `f_lmp` for `l <= lmax`, the
-/// components of `codomain`, and `channels` colour channels.
+/// components of `codomain`, and `channels` colour channels, of a field whose argument
+/// means what [`FieldArgument`] says.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PshVector {
     lmax: usize,
     codomain: Codomain,
     channels: usize,
+    argument: FieldArgument,
     /// `[channel][l*l + l + m][p]`.
     data: Vec<f64>,
 }
 
 impl PshVector {
-    /// All-zero coefficients.
+    /// All-zero coefficients of a field indexed by the direction towards the source
+    /// (psh's convention; [`Self::labelled`] declares another).
     pub fn zeros(lmax: usize, codomain: Codomain, channels: usize) -> Result<Self> {
         crate::sh::check_lmax(lmax)?;
         if channels == 0 {
@@ -132,12 +137,14 @@ impl PshVector {
             lmax,
             codomain,
             channels,
+            argument: FieldArgument::TowardsSource,
             data: vec![0.0; n],
         })
     }
 
-    /// From data in the layout `[channel][l*l + l + m][p]`; coefficients outside the index
-    /// set PSH (31) must be zero, and every value finite.
+    /// From data in the layout `[channel][l*l + l + m][p]` of a field indexed by the
+    /// direction towards the source ([`Self::labelled`] declares another); coefficients
+    /// outside the index set PSH (31) must be zero, and every value finite.
     pub fn from_data(
         lmax: usize,
         codomain: Codomain,
@@ -165,6 +172,13 @@ impl PshVector {
         Ok(v)
     }
 
+    /// A one-channel scalar field (e.g. a visibility) from its real SH coefficients
+    /// `l*l + l + m`, `l <= lmax`, indexed by the direction towards the source
+    /// ([`Self::labelled`] declares another). Errors: as [`Self::from_data`].
+    pub fn scalar(lmax: usize, coefficients: Vec<f64>) -> Result<Self> {
+        Self::from_data(lmax, Codomain::Intensity, 1, coefficients)
+    }
+
     /// The band limit.
     pub fn lmax(&self) -> usize {
         self.lmax
@@ -178,6 +192,34 @@ impl PshVector {
     /// Number of channels.
     pub fn channels(&self) -> usize {
         self.channels
+    }
+
+    /// What the field's argument means.
+    pub fn argument(&self) -> FieldArgument {
+        self.argument
+    }
+
+    /// The same coefficients declared to index a field by `argument`, without changing
+    /// them: for coefficients made outside psh's readers and projections. To express the
+    /// same field in the other convention use [`Self::converted`].
+    pub fn labelled(mut self, argument: FieldArgument) -> PshVector {
+        self.argument = argument;
+        self
+    }
+
+    /// The same light field indexed by `argument`: itself when it already is; otherwise
+    /// the map between the direction `w` towards the source and the direction of travel
+    /// `v = -w`, both in the theta-phi frames at their argument (`docs/conventions.md`):
+    /// `f'_lm0 = (-1)^l f_lm0`, `f'_lm3 = -(-1)^l f_lm3`, `a'_lm = (-1)^{l+m} conj(a_{l,-m})`
+    /// for `a = f_lm1 + i f_lm2` (derived in `proofs/travel-convention.md`; an involution).
+    pub fn converted(&self, argument: FieldArgument) -> PshVector {
+        if argument == self.argument {
+            self.clone()
+        } else {
+            let mut out = self.reversed_directions();
+            out.argument = argument;
+            out
+        }
     }
 
     /// The data, `[channel][l*l + l + m][p]`.
@@ -205,6 +247,7 @@ impl PshVector {
             lmax: self.lmax,
             codomain,
             channels: self.channels,
+            argument: self.argument,
             data,
         }
     }
@@ -214,35 +257,43 @@ impl PshVector {
         self.check_index(c, 0, 0)?;
         let len = num_coeffs(self.lmax) * self.codomain.components().len();
         let data = self.data[self.offset(c, 0)..][..len].to_vec();
-        PshVector::from_data(self.lmax, self.codomain, 1, data)
+        Ok(PshVector::from_data(self.lmax, self.codomain, 1, data)?.labelled(self.argument))
     }
 
     /// The channels of `parts` side by side (each may hold several). Errors: no parts, or
-    /// parts of different band limits or codomains, naming the first that differs.
+    /// parts of different band limits, codomains or arguments, naming the first that
+    /// differs.
     pub fn from_channels(parts: &[PshVector]) -> Result<PshVector> {
         let first = parts.first().ok_or_else(|| Error::InvalidArgument {
             name: "PSH vectors",
             value: "[]".into(),
             reason: "at least one vector to stack".into(),
         })?;
-        if let Some((k, v)) = parts
-            .iter()
-            .enumerate()
-            .find(|(_, v)| v.lmax != first.lmax || v.codomain != first.codomain)
-        {
+        if let Some((k, v)) = parts.iter().enumerate().find(|(_, v)| {
+            v.lmax != first.lmax || v.codomain != first.codomain || v.argument != first.argument
+        }) {
             return Err(Error::InvalidArgument {
                 name: "PSH vector",
-                value: format!("#{k}: lmax {}, {}", v.lmax, v.codomain.name()),
+                value: format!(
+                    "#{k}: lmax {}, {}, {}",
+                    v.lmax,
+                    v.codomain.name(),
+                    v.argument
+                ),
                 reason: format!(
-                    "the first has lmax {}, {}",
+                    "the first has lmax {}, {}, {}",
                     first.lmax,
-                    first.codomain.name()
+                    first.codomain.name(),
+                    first.argument
                 ),
             });
         }
         let data = parts.iter().flat_map(|v| v.data.iter().copied()).collect();
         let channels = parts.iter().map(|v| v.channels).sum();
-        PshVector::from_data(first.lmax, first.codomain, channels, data)
+        Ok(
+            PshVector::from_data(first.lmax, first.codomain, channels, data)?
+                .labelled(first.argument),
+        )
     }
 
     /// The coefficients of degrees `l <= lmax` (band-limiting). Error: `lmax` above this
@@ -259,7 +310,7 @@ impl PshVector {
         let data = (0..self.channels)
             .flat_map(|c| self.data[self.offset(c, 0)..][..len].iter().copied())
             .collect();
-        PshVector::from_data(lmax, self.codomain, self.channels, data)
+        Ok(PshVector::from_data(lmax, self.codomain, self.channels, data)?.labelled(self.argument))
     }
 
     /// The same coefficients with every degree `l <= l_low` zeroed (a high pass).
@@ -315,7 +366,8 @@ impl PshVector {
     }
 
     /// The Stokes vector of channel `c` at the unit direction `w` by PSH (30), in the
-    /// theta-phi frame there (tables built per call; loops use a [`PshEvaluator`]).
+    /// theta-phi frame there (tables built per call; loops use a [`PshEvaluator`]); `w`
+    /// means what [`Self::argument`] says.
     pub fn evaluate(&self, c: usize, w: [f64; 3]) -> Result<StokesVector> {
         if c >= self.channels {
             return Err(Error::InvalidArgument {
@@ -333,12 +385,9 @@ impl PshVector {
         PshEvaluator::new(self.lmax)?.evaluate_all(self, w)
     }
 
-    /// The same light field indexed by the direction of travel `v = -w` instead of the
-    /// direction `w` towards its source, in the theta-phi frames at `v` (polarsh's
-    /// convention, `docs/conventions.md`): `f'_lm0 = (-1)^l f_lm0`,
-    /// `f'_lm3 = -(-1)^l f_lm3`, `a'_lm = (-1)^{l+m} conj(a_{l,-m})` for
-    /// `a = f_lm1 + i f_lm2` (derived in `proofs/travel-convention.md`). An involution.
-    pub fn travel_convention(&self) -> PshVector {
+    /// The coefficients of `F'(v) = (s0, s1, -s2, -s3)` of `F(-v)` in the theta-phi frames,
+    /// with the argument label unchanged ([`Self::converted`] sets it).
+    fn reversed_directions(&self) -> PshVector {
         let mut out = self.clone();
         let comps = self.codomain.components();
         for c in 0..self.channels {
@@ -566,9 +615,11 @@ mod tests {
     #[test]
     fn travel_convention_reverses_directions() {
         let v = crate::verify::random_psh(6, Codomain::Full, 2, 3).unwrap();
-        let t = v.travel_convention();
-        let back = t.travel_convention();
-        assert_eq!(back.data(), v.data());
+        let t = v.converted(FieldArgument::Travel);
+        assert_eq!(t.argument(), FieldArgument::Travel);
+        assert_eq!(t.converted(FieldArgument::Travel), t);
+        let back = t.converted(FieldArgument::TowardsSource);
+        assert_eq!(back, v);
         for (i, u) in [[0.0, 0.0, 1.0], [0.6, 0.0, -0.8], [0.48, -0.6, 0.64]]
             .into_iter()
             .enumerate()

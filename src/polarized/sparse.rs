@@ -4,7 +4,7 @@
 //! (`j * components + k`), so PSH (41) is one pass over the stored entries. Isotropic
 //! operators keep only the entries PSH (52) allows (`|m_o| = |m_i|`), `O(lmax^3)` of them.
 
-use super::{Codomain, PshMatrix, PshVector};
+use super::{Codomain, FieldArgument, PshMatrix, PshVector};
 use crate::error::{Error, Result};
 use crate::sh::{lm_of_index, num_coeffs};
 
@@ -24,6 +24,8 @@ pub struct SparsePshMatrix {
     lmax: usize,
     input: Codomain,
     output: Codomain,
+    /// The conventions of the input and output fields (those of the dense matrix).
+    arguments: (FieldArgument, FieldArgument),
     /// Row `r` holds entries `row_start[r]..row_start[r + 1]`.
     row_start: Vec<usize>,
     column: Vec<u32>,
@@ -60,6 +62,7 @@ impl SparsePshMatrix {
             lmax: m.lmax(),
             input,
             output,
+            arguments: (m.input(), m.output()),
             row_start,
             column,
             value,
@@ -76,8 +79,8 @@ impl SparsePshMatrix {
         self.value.len()
     }
 
-    /// PSH (41) on every channel of `f`, the result in the output codomain. Error: `f` of
-    /// another band limit or codomain than the input's.
+    /// PSH (41) on every channel of `f`, the result in the output codomain and convention.
+    /// Error: `f` of another band limit, codomain or convention than the input's.
     pub fn apply(&self, f: &PshVector) -> Result<PshVector> {
         if f.lmax() != self.lmax || f.codomain() != self.input {
             return Err(Error::InvalidArgument {
@@ -90,6 +93,9 @@ impl SparsePshMatrix {
                 ),
             });
         }
+        self.arguments
+            .0
+            .expect(f.argument(), "PSH vector", "the sparse matrix's input")?;
         let n = num_coeffs(self.lmax);
         let nin = n * self.input.components().len();
         let mut out = Vec::with_capacity(f.channels() * (self.row_start.len() - 1));
@@ -102,7 +108,10 @@ impl SparsePshMatrix {
                     .sum::<f64>()
             }));
         }
-        PshVector::from_data(self.lmax, self.output, f.channels(), out)
+        Ok(
+            PshVector::from_data(self.lmax, self.output, f.channels(), out)?
+                .labelled(self.arguments.1),
+        )
     }
 }
 

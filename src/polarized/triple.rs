@@ -1,6 +1,9 @@
 //! Shadowed transfer by triple products (PSH Sec. 6.3.4): the PSH coefficient matrix of
 //! the operator `f -> V f` for a scalar visibility `V` given by real SH coefficients
-//! (PSH (54)-(56); derivation in `proofs/triple-products.md`).
+//! (PSH (54)-(56); derivation in `proofs/triple-products.md`). The visibility is a scalar
+//! field ([`PshVector`] of [`Codomain::Intensity`], one channel) with its own
+//! [`super::FieldArgument`]; it multiplies fields indexed the same way (polarsh's
+//! visibilities are functions of the travel direction, `(-1)^l` apart from psh's).
 //!
 //! - Spin 0-to-0 (`p_o = p_i` in `{0, 3}`): `sum v_{l'm'} int Y^R_{j_o} Y^R_{l'm'} Y^R_{j_i}`
 //!   (real Gaunt coefficients, PSH (55)).
@@ -10,7 +13,7 @@
 //! - Spin 0-to-2 and 2-to-0 blocks vanish.
 
 use super::{Codomain, PshMatrix, PshVector};
-use crate::error::{check_len, Error, Result};
+use crate::error::{Error, Result};
 use crate::sh::gaunt::{wigner_3j_row, wigner_3j_row_into, GauntBasis, GauntTable};
 use crate::sh::{check_lmax, lm_index, num_coeffs};
 use num_complex::Complex64;
@@ -152,24 +155,30 @@ impl TripleTable {
         self.lmax
     }
 
-    /// Errors: `v` of the wrong length or not finite.
-    fn check_visibility(&self, v: &[f64]) -> Result<()> {
-        check_len("visibility coefficients", num_coeffs(self.lv), v.len())?;
-        match v.iter().find(|x| !x.is_finite()) {
-            Some(x) => Err(Error::NonFinite {
-                name: "visibility coefficient",
-                value: *x,
-            }),
-            None => Ok(()),
+    /// The coefficients of the visibility `v`. Errors: `v` not a one-channel scalar field
+    /// of degree `lv`.
+    fn visibility<'a>(&self, v: &'a PshVector) -> Result<&'a [f64]> {
+        check_scalar_field(v)?;
+        if v.lmax() != self.lv {
+            return Err(Error::InvalidArgument {
+                name: "visibility",
+                value: format!("lmax {}", v.lmax()),
+                reason: format!("the triple table has visibilities of degree {}", self.lv),
+            });
         }
+        Ok(v.data())
     }
 
     /// The coefficients of `V f` (PSH (54)) for `V = sum v_{lm} Y^R_{lm}`, in `f`'s
-    /// codomain, without forming the matrix: one pass over the couplings of PSH (55) per
-    /// spin-0 component, and of PSH (56) when `f` has `s1, s2` (scalar SH costs the first
-    /// pass alone). Errors: as [`Self::transfer`], and `f` of another band limit.
-    pub fn shadow(&self, v: &[f64], f: &PshVector) -> Result<PshVector> {
-        self.check_visibility(v)?;
+    /// codomain and convention, without forming the matrix: one pass over the couplings of
+    /// PSH (55) per spin-0 component, and of PSH (56) when `f` has `s1, s2` (scalar SH
+    /// costs the first pass alone). Errors: as [`Self::transfer`], `f` of another band
+    /// limit, and `f` indexed otherwise than `v`.
+    pub fn shadow(&self, v: &PshVector, f: &PshVector) -> Result<PshVector> {
+        let coefficients = self.visibility(v)?;
+        v.argument()
+            .expect(f.argument(), "PSH vector", "the visibility")?;
+        let v = coefficients;
         if f.lmax() != self.lmax || (f.codomain().has_spin2() && !self.has_spin2) {
             return Err(Error::InvalidArgument {
                 name: "PSH vector",
@@ -202,11 +211,12 @@ impl TripleTable {
     }
 
     /// The PSH matrix of `f -> V f` (PSH (54)) for `V = sum v_{lm} Y^R_{lm}`, `l <= lv`,
-    /// flat order `l*l + l + m`. Errors: wrong length, non-finite `v`, a table built
-    /// without the spin-2 couplings ([`Self::for_codomain`]), whose matrix would be wrong on
-    /// `s1, s2`.
-    pub fn transfer(&self, v: &[f64]) -> Result<PshMatrix> {
-        self.check_visibility(v)?;
+    /// flat order `l*l + l + m`, from and to fields indexed as `v`. Errors: `v` not a
+    /// one-channel scalar field of degree `lv`, a table built without the spin-2 couplings
+    /// ([`Self::for_codomain`]), whose matrix would be wrong on `s1, s2`.
+    pub fn transfer(&self, v: &PshVector) -> Result<PshMatrix> {
+        let argument = v.argument();
+        let v = self.visibility(v)?;
         if !self.has_spin2 {
             return Err(Error::InvalidArgument {
                 name: "triple table",
@@ -236,25 +246,39 @@ impl TripleTable {
             data[base + 9] = z.im;
             data[base + 10] = z.re;
         }
-        PshMatrix::from_data(self.lmax, data)
+        Ok(PshMatrix::from_data(self.lmax, data)?.labelled(argument, argument))
     }
 }
 
+/// Error unless `v` is a one-channel scalar field (a visibility).
+fn check_scalar_field(v: &PshVector) -> Result<()> {
+    if v.codomain() != Codomain::Intensity || v.channels() != 1 {
+        return Err(Error::InvalidArgument {
+            name: "visibility",
+            value: format!("{}, {} channels", v.codomain().name(), v.channels()),
+            reason: "a visibility is a one-channel scalar field (SCALAR)".into(),
+        });
+    }
+    Ok(())
+}
+
 /// The PSH matrix of the shadowing operator `f -> V f` (PSH (54)-(56)) for the visibility
-/// `V = sum v_{lm} Y^R_{lm}` (real SH, PSH (12), `l <= lv`), band limit `lmax`. For many
-/// visibilities build a [`TripleTable`] once.
-pub fn visibility_transfer(v: &[f64], lv: usize, lmax: usize) -> Result<PshMatrix> {
+/// `V = sum v_{lm} Y^R_{lm}` (real SH, PSH (12), a one-channel scalar field of degree
+/// `lv`), band limit `lmax`, from and to fields indexed as `v`. For many visibilities
+/// build a [`TripleTable`] once.
+pub fn visibility_transfer(v: &PshVector, lmax: usize) -> Result<PshMatrix> {
     // Checked before the table is built.
-    check_len("visibility coefficients", num_coeffs(lv), v.len())?;
-    TripleTable::new(lv, lmax)?.transfer(v)
+    check_scalar_field(v)?;
+    TripleTable::new(v.lmax(), lmax)?.transfer(v)
 }
 
 /// Direct evaluation of PSH (54) on an exact grid, for tests and `psh verify`:
 /// `sum_a w_a <Y_{j_o p_o}(w_a), V(w_a) Y_{j_i p_i}(w_a)>` for every pair of basis functions,
 /// with the basis fields reconstructed by [`super::PshTransform`] (PSH (30)).
-pub fn visibility_transfer_quadrature(v: &[f64], lv: usize, lmax: usize) -> Result<PshMatrix> {
+pub fn visibility_transfer_quadrature(v: &PshVector, lmax: usize) -> Result<PshMatrix> {
     use super::PshTransform;
-    check_len("visibility coefficients", num_coeffs(lv), v.len())?;
+    check_scalar_field(v)?;
+    let (argument, lv, v) = (v.argument(), v.lmax(), v.data());
     // Integrand degree lo + lv + li <= 2 lmax + lv: exact for 2 L >= 2 lmax + lv.
     let big = lmax + lv / 2 + 1;
     let t = PshTransform::new(big.max(2))?;
@@ -290,7 +314,7 @@ pub fn visibility_transfer_quadrature(v: &[f64], lv: usize, lmax: usize) -> Resu
             data[((jo * n + ji) * 4 + po) * 4 + pi] = sum;
         }
     }
-    PshMatrix::from_data(lmax, data)
+    Ok(PshMatrix::from_data(lmax, data)?.labelled(argument, argument))
 }
 
 #[cfg(test)]
@@ -306,7 +330,7 @@ mod tests {
     #[test]
     fn shadow_equals_transfer_matrix() {
         let (lv, lmax) = (6, 4);
-        let v = pseudo_random(num_coeffs(lv), 3);
+        let v = PshVector::scalar(lv, pseudo_random(num_coeffs(lv), 3)).unwrap();
         let want_full = TripleTable::new(lv, lmax).unwrap().transfer(&v).unwrap();
         for cod in [Codomain::Intensity, Codomain::NoCircular, Codomain::Full] {
             let f = crate::verify::random_psh(lmax, cod, 2, 5).unwrap();
@@ -321,6 +345,15 @@ mod tests {
         let f = crate::verify::random_psh(lmax, Codomain::Full, 1, 5).unwrap();
         assert!(scalar.shadow(&v, &f).is_err());
         assert!(scalar.transfer(&v).is_err());
+        // A visibility of the other convention is an error, not a silent flip.
+        let table = TripleTable::new(lv, lmax).unwrap();
+        let travel = v.converted(crate::polarized::FieldArgument::Travel);
+        assert!(table.shadow(&travel, &f).is_err());
+        let both = table
+            .shadow(&travel, &f.converted(travel.argument()))
+            .unwrap();
+        let want = table.shadow(&v, &f).unwrap().converted(travel.argument());
+        assert!(max_diff(both.data(), want.data()) < 1e-13);
     }
 
     fn max_diff(a: &[f64], b: &[f64]) -> f64 {
@@ -371,9 +404,9 @@ mod tests {
     #[test]
     fn transfer_equals_quadrature_of_54() {
         for (lv, lmax, seed) in [(3usize, 3usize, 5u64), (5, 4, 7), (2, 5, 11)] {
-            let v = pseudo_random(num_coeffs(lv), seed);
-            let a = visibility_transfer(&v, lv, lmax).unwrap();
-            let b = visibility_transfer_quadrature(&v, lv, lmax).unwrap();
+            let v = PshVector::scalar(lv, pseudo_random(num_coeffs(lv), seed)).unwrap();
+            let a = visibility_transfer(&v, lmax).unwrap();
+            let b = visibility_transfer_quadrature(&v, lmax).unwrap();
             let d = max_diff(a.data(), b.data());
             assert!(d <= 1e-12, "lv {lv} lmax {lmax}: {d}");
         }
@@ -385,7 +418,7 @@ mod tests {
         let lmax = 4;
         let mut v = vec![0.0; num_coeffs(2)];
         v[0] = (4.0 * PI).sqrt();
-        let m = visibility_transfer(&v, 2, lmax).unwrap();
+        let m = visibility_transfer(&PshVector::scalar(2, v).unwrap(), lmax).unwrap();
         let n = num_coeffs(lmax);
         for jo in 0..n {
             for ji in 0..n {
@@ -403,19 +436,20 @@ mod tests {
     #[test]
     fn table_reuse_and_bad_input() {
         let t = TripleTable::new(3, 3).unwrap();
-        let v = pseudo_random(16, 3);
-        assert_eq!(
-            t.transfer(&v).unwrap(),
-            visibility_transfer(&v, 3, 3).unwrap()
-        );
-        assert!(matches!(
-            t.transfer(&v[..15]),
-            Err(Error::LengthMismatch { .. })
-        ));
-        let mut bad = v.clone();
-        bad[7] = f64::NAN;
-        let e = visibility_transfer(&bad, 3, 3).unwrap_err();
-        assert!(e.to_string().contains("visibility coefficient"), "{e}");
+        let v = PshVector::scalar(3, pseudo_random(16, 3)).unwrap();
+        assert_eq!(t.transfer(&v).unwrap(), visibility_transfer(&v, 3).unwrap());
+        let low = PshVector::scalar(2, pseudo_random(9, 3)).unwrap();
+        assert!(t
+            .transfer(&low)
+            .unwrap_err()
+            .to_string()
+            .contains("degree 3"));
+        let colour = crate::verify::random_psh(3, Codomain::Intensity, 3, 4).unwrap();
+        assert!(t
+            .transfer(&colour)
+            .unwrap_err()
+            .to_string()
+            .contains("one-channel"));
         assert!(TripleTable::new(40, 3).is_err());
     }
 }

@@ -388,7 +388,7 @@ fn high_orders(
 /// `h_l0 = 2 pi int_0^1 Y_l0(z) dz` (`proofs/tangent-plane-visibility.md`), by the
 /// `(lv/2 + 1)`-point Gauss-Legendre rule on `[0, 1]` (exact: the integrand is a
 /// polynomial of degree `l` in `z`).
-pub fn tangent_plane_visibility(lv: usize) -> Result<Vec<f64>> {
+pub fn tangent_plane_visibility(lv: usize) -> Result<PshVector> {
     let gl = GaussLegendre::new(lv / 2 + 1)?;
     let eval = ShEvaluator::new(lv)?;
     let mut y = vec![0.0; num_coeffs(lv)];
@@ -401,7 +401,7 @@ pub fn tangent_plane_visibility(lv: usize) -> Result<Vec<f64>> {
             h[lm_index(l, 0)] += 2.0 * PI * 0.5 * w * y[lm_index(l, 0)];
         }
     }
-    Ok(h)
+    PshVector::scalar(lv, h)
 }
 
 /// Whether the scene is one object whose mesh is convex: every vertex on or behind the

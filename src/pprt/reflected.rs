@@ -22,7 +22,9 @@ use crate::sh::{lm_of_index, num_coeffs};
 use crate::stokes::StokesVector;
 use nalgebra::{Rotation3, Unit, Vector3};
 
-/// `D(Rz(pi))^T P`: the rows of output order `m` times `(-1)^m`.
+/// `D(Rz(pi))^T P`: the rows of output order `m` times `(-1)^m`. The mirror map takes the
+/// outgoing field back to incident directions, so the result maps fields indexed as `P`'s
+/// input to fields indexed the same way (a near-convolution).
 pub fn reflected_pbrdf(p: &PshMatrix) -> Result<PshMatrix> {
     let n = num_coeffs(p.lmax());
     let mut data = p.data().to_vec();
@@ -31,7 +33,7 @@ pub fn reflected_pbrdf(p: &PshMatrix) -> Result<PshMatrix> {
             rows.iter_mut().for_each(|x| *x = -*x);
         }
     }
-    PshMatrix::from_data(p.lmax(), data)
+    Ok(PshMatrix::from_data(p.lmax(), data)?.labelled(p.input(), p.input()))
 }
 
 /// Kernel coefficients of the reflected pBRDF projected onto the convolutions, with the

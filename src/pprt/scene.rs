@@ -5,7 +5,7 @@ use super::mesh::Mesh;
 use super::sky::RayleighSky;
 use crate::error::{Error, Result};
 use crate::optics::{Channel, Conductor, Lambertian, Material, PolarizedPlastic};
-use crate::polarized::{project_operator, PshMatrix, PshVector, SpinBlock22};
+use crate::polarized::{project_operator, FieldArgument, PshMatrix, PshVector, SpinBlock22};
 use crate::stokes::MuellerField;
 use bvh::aabb::{Aabb, Bounded};
 use bvh::bounding_hierarchy::BHShape;
@@ -210,6 +210,11 @@ impl Scene {
                 reason: "RGB (3 channels)".into(),
             });
         }
+        FieldArgument::TowardsSource.expect(
+            environment.argument(),
+            "environment",
+            "a scene's incident light",
+        )?;
         let mut tris = Vec::new();
         for (object, o) in objects.iter().enumerate() {
             let p = o.mesh.positions();

@@ -50,7 +50,7 @@ use super::sky::RayleighSky;
 use super::transfer::TransferSettings;
 use crate::error::{Error, Result};
 use crate::optics::{Lambertian, Material, PolarizedPlastic};
-use crate::polarized::{Codomain, PshRotation, PshVector};
+use crate::polarized::{Codomain, FieldArgument, PshRotation, PshVector};
 use nalgebra::{Rotation3, Vector3};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -243,7 +243,8 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
             .map(EnvironmentSource::Sky)
             .map_err(|e| field("environment", e))?,
         EnvironmentSpec::Npz { path: p, up } => {
-            let v = crate::io::npz::read_psh_npz(resolve(p)?)?;
+            let v =
+                crate::io::npz::read_psh_npz(resolve(p)?)?.converted(FieldArgument::TowardsSource);
             let v = v
                 .truncated(source_lmax.min(v.lmax()))
                 .map_err(|e| field("environment.path", e))?;
@@ -308,10 +309,12 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
                 )
             }
             MaterialSpec::Npz { name, path: p } => {
-                let mats = crate::io::npz::read_isotropic_npz(resolve(p)?)?;
-                let dense = mats
-                    .iter()
-                    .map(|m| m.to_dense())
+                // The file's input is indexed by travel; the renderer's fields by the
+                // direction towards the source.
+                let mats = crate::io::npz::read_isotropic_npz(resolve(p)?)?
+                    .with_input(FieldArgument::TowardsSource)?;
+                let dense = (0..mats.channels())
+                    .map(|c| mats.to_dense(c))
                     .collect::<Result<Vec<_>>>()?;
                 let rgb: [_; 3] = dense.try_into().map_err(|d: Vec<_>| {
                     malformed(format!("material '{name}': {} channels, not 3", d.len()))

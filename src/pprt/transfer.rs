@@ -40,9 +40,11 @@ pub struct TransferSettings {
 pub struct VertexTransfer {
     /// Shading frame to world (`R z = n`).
     pub rotation: Rotation3<f64>,
-    /// Visibility as real SH (`l <= 2 l_low`), empty without shadows.
-    pub visibility: Vec<f64>,
-    /// Outgoing radiance (RGB, `s0..s3`, `l <= l_low`) in the shading frame.
+    /// Visibility as a scalar field of real SH (`l <= 2 l_low`, indexed by the direction
+    /// towards the source), `None` without shadow rays.
+    pub visibility: Option<PshVector>,
+    /// Outgoing radiance (RGB, `s0..s3`, `l <= l_low`, indexed by the direction of
+    /// travel) in the shading frame.
     pub radiance: PshVector,
 }
 
@@ -100,16 +102,17 @@ impl VisibilityRays {
     }
 }
 
-/// The real SH coefficients (`l <= lv`) of the visibility at the point `p` of unit normal
-/// `n`: the equal-weight (`4 pi / n`) quadrature over the rays, a ray counting when it
-/// leaves above the tangent plane (below, the surface itself occludes) from `p` offset by
-/// `1e-4` of the scene's size along `n`, and hits nothing. Error: no rays.
+/// The visibility at the point `p` of unit normal `n` as a scalar field of real SH
+/// (`l <= lv`, indexed by the direction towards the source): the equal-weight
+/// (`4 pi / n`) quadrature over the rays, a ray counting when it leaves above the tangent
+/// plane (below, the surface itself occludes) from `p` offset by `1e-4` of the scene's
+/// size along `n`, and hits nothing. Error: no rays.
 pub fn ray_visibility(
     scene: &Scene,
     p: [f64; 3],
     n: [f64; 3],
     rays: &VisibilityRays,
-) -> Result<Vec<f64>> {
+) -> Result<PshVector> {
     if rays.dirs.is_empty() {
         return Err(Error::InvalidArgument {
             name: "visibility rays",
@@ -128,7 +131,7 @@ pub fn ray_visibility(
             v.iter_mut().zip(y).for_each(|(a, b)| *a += w * b);
         }
     }
-    Ok(v)
+    PshVector::scalar(rays.lv, v)
 }
 
 /// Transfer of every vertex of every object, `[object][vertex]`, with everything computed
@@ -183,10 +186,10 @@ pub fn precompute_planned(
                         (Some(t), _) => {
                             let v = ray_visibility(scene, *p, *n, &rays)?;
                             let local = to_local.rotate(&t.shadow(&v, &env)?)?;
-                            (v, local)
+                            (Some(v), local)
                         }
-                        (None, Some(h)) => (Vec::new(), h.apply(&to_local.rotate(&env)?)?),
-                        (None, None) => (Vec::new(), to_local.rotate(&env)?),
+                        (None, Some(h)) => (None, h.apply(&to_local.rotate(&env)?)?),
+                        (None, None) => (None, to_local.rotate(&env)?),
                     };
                     let parts = ops
                         .iter()

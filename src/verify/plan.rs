@@ -49,6 +49,7 @@ pub fn checks() -> Vec<Check> {
 pub fn tangent_plane_closed_form() -> Result<f64> {
     let lv = 40;
     let h = tangent_plane_visibility(lv)?;
+    let h = h.data();
     let mut p0 = vec![0.0; lv + 2];
     p0[0] = 1.0;
     for k in 1..=lv {

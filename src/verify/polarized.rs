@@ -139,7 +139,7 @@ fn rotation_invariance_image() -> Result<f64> {
 fn travel_convention() -> Result<f64> {
     let lmax = 12;
     let v = random_psh(lmax, Codomain::Full, 1, 47)?;
-    let t = v.travel_convention();
+    let t = v.converted(crate::polarized::FieldArgument::Travel);
     let mut dirs = vec![[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]];
     let angles = super::pseudo_random(124, 53);
     for a in angles.chunks(2) {

@@ -17,9 +17,9 @@ pub fn checks() -> Vec<Check> {
 
 fn visibility_transfer_vs_quadrature() -> Result<f64> {
     let (lv, lmax) = (5, 4);
-    let v = pseudo_random(crate::sh::num_coeffs(lv), 97);
-    let a = visibility_transfer(&v, lv, lmax)?;
-    let b = visibility_transfer_quadrature(&v, lv, lmax)?;
+    let v = crate::polarized::PshVector::scalar(lv, pseudo_random(crate::sh::num_coeffs(lv), 97))?;
+    let a = visibility_transfer(&v, lmax)?;
+    let b = visibility_transfer_quadrature(&v, lmax)?;
     Ok(a.data()
         .iter()
         .zip(b.data())
