@@ -43,12 +43,15 @@ def main(results_path, out_path):
                          "passed": False, "detail": ""})
     failed = [r for r in rows if not r["passed"]]
 
+    def cell(text):
+        return str(text).replace("|", "\\|")
+
     lines = ["| check | anchor | measure | measured | tolerance | result |",
              "|---|---|---|---|---|---|"]
     for r in rows:
         anchor = f"{r['anchor']} {r['version']}" if r["anchor"] != "-" else "-"
         measure = r["measure"] + (f" ({r['detail']})" if r["detail"] else "")
-        lines.append(f"| {r['check']} | {anchor} | {measure} | {fmt(r['measured'])} | "
+        lines.append(f"| {cell(r['check'])} | {anchor} | {cell(measure)} | {fmt(r['measured'])} | "
                      f"{fmt(r['tolerance'])} | {'pass' if r['passed'] else '**FAIL**'} |")
     table = "\n".join(lines)
 
