@@ -59,11 +59,6 @@ def rng():
     return np.random.default_rng(512)
 
 
-def rel(a, b, scale):
-    """max |a - b| / max |scale|."""
-    return np.abs(a - b).max() / np.abs(scale).max()
-
-
 @pytest.fixture(scope="module")
 def psh_theta(psh):
     """psh's ring angles (the grid of `psh eval sht` / `spin-sht` at L)."""
