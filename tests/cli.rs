@@ -568,3 +568,443 @@ fn apply_isotropic_matrix_file() {
     assert!(e.contains("low.npz") && e.contains("l <= 4"), "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+// ---- `psh eval` subcommands of the external cross-validation suite (validation/) ----
+
+/// A scratch directory of one test.
+fn eval_dir(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("psh-cli-eval-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn write_npy(path: &std::path::Path, shape: &[u64], data: &[f64]) {
+    use npyz::WriterBuilder;
+    let file = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
+    let mut w = npyz::WriteOptions::new()
+        .default_dtype()
+        .shape(shape)
+        .writer(file)
+        .begin_nd()
+        .unwrap();
+    w.extend(data.iter().copied()).unwrap();
+    w.finish().unwrap();
+}
+
+fn read_npy(path: &std::path::Path) -> (Vec<u64>, Vec<f64>) {
+    let bytes = std::fs::read(path).unwrap();
+    let npy = npyz::NpyFile::new(&bytes[..]).unwrap();
+    let shape = npy.shape().to_vec();
+    (shape, npy.into_vec().unwrap())
+}
+
+/// Runs psh, asserts success and returns its JSON.
+fn psh_json(args: &[&str]) -> serde_json::Value {
+    let out = psh(args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+fn path_str(p: &std::path::Path) -> &str {
+    p.to_str().unwrap()
+}
+
+#[test]
+fn eval_wigner_block_writes_one_block() {
+    let dir = eval_dir("wigner-block");
+    let out = dir.join("d.npy");
+    // About z by a: D^1_mm' = e^{-i m a} delta_mm' (conventions.md §7).
+    let v = psh_json(&[
+        "eval",
+        "wigner-block",
+        "--kind",
+        "complex",
+        "--l",
+        "1",
+        "--rotvec",
+        "0,0,0.7",
+        "--out",
+        path_str(&out),
+    ]);
+    assert_eq!(v["shape"], serde_json::json!([3, 3, 2]));
+    let (shape, d) = read_npy(&out);
+    assert_eq!(shape, [3, 3, 2]);
+    for (i, m) in (-1i32..=1).enumerate() {
+        for j in 0..3 {
+            let (re, im) = (d[(i * 3 + j) * 2], d[(i * 3 + j) * 2 + 1]);
+            let (er, ei) = if i == j {
+                ((-(m as f64) * 0.7).cos(), (-(m as f64) * 0.7).sin())
+            } else {
+                (0.0, 0.0)
+            };
+            assert!((re - er).abs() < 1e-15 && (im - ei).abs() < 1e-15, "{d:?}");
+        }
+    }
+    // The real block of a quarter turn about z (the same as `eval wigner`'s test).
+    psh_json(&[
+        "eval",
+        "wigner-block",
+        "--kind",
+        "real",
+        "--l",
+        "1",
+        "--rotvec",
+        "0,0,1.5707963267948966",
+        "--out",
+        path_str(&out),
+    ]);
+    let (shape, d) = read_npy(&out);
+    assert_eq!(shape, [3, 3]);
+    let expect = [0.0, 0.0, 1.0, 0.0, 1.0, 0.0, -1.0, 0.0, 0.0];
+    for (x, e) in d.iter().zip(expect) {
+        assert!((x - e).abs() < 1e-15, "{d:?}");
+    }
+    let bad = psh(&[
+        "eval",
+        "wigner-block",
+        "--kind",
+        "real",
+        "--l",
+        "5000",
+        "--rotvec",
+        "0,0,1",
+        "--out",
+        path_str(&out),
+    ]);
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("out of range"));
+}
+
+#[test]
+fn eval_swsh_points_matches_eval_swsh() {
+    let dir = eval_dir("swsh-points");
+    let (points, out) = (dir.join("p.npy"), dir.join("y.npy"));
+    let pts = [0.0, 0.5, 1.1, -2.0, std::f64::consts::PI, 0.3];
+    write_npy(&points, &[3, 2], &pts);
+    psh_json(&[
+        "eval",
+        "swsh-points",
+        "--spin",
+        "-1",
+        "--lmax",
+        "3",
+        "--points",
+        path_str(&points),
+        "--out",
+        path_str(&out),
+    ]);
+    let (shape, y) = read_npy(&out);
+    assert_eq!(shape, [3, 16, 2]);
+    for (i, p) in pts.chunks(2).enumerate() {
+        let v = psh_json(&[
+            "eval",
+            "swsh",
+            "--spin",
+            "-1",
+            "--lmax",
+            "3",
+            "--theta",
+            &p[0].to_string(),
+            "--phi",
+            &p[1].to_string(),
+        ]);
+        for (k, pair) in v["values"].as_array().unwrap().iter().enumerate() {
+            for c in 0..2 {
+                // JSON parsing may be off by an ulp (serde_json without float_roundtrip).
+                let (a, b) = (pair[c].as_f64().unwrap(), y[(i * 16 + k) * 2 + c]);
+                assert!((a - b).abs() <= 1e-15 * b.abs().max(1.0), "{a} {b}");
+            }
+        }
+    }
+    // Rows must be (theta, phi).
+    write_npy(&points, &[2, 3], &pts);
+    let bad = psh(&[
+        "eval",
+        "swsh-points",
+        "--spin",
+        "2",
+        "--lmax",
+        "3",
+        "--points",
+        path_str(&points),
+        "--out",
+        path_str(&out),
+    ]);
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("malformed file"));
+}
+
+#[test]
+fn eval_sh_derivatives_low_degrees() {
+    let dir = eval_dir("sh-derivatives");
+    let (points, out) = (dir.join("w.npy"), dir.join("d.npy"));
+    write_npy(&points, &[2, 3], &[1.0, 0.0, 0.0, 0.0, 0.6, 0.8]);
+    let v = psh_json(&[
+        "eval",
+        "sh-derivatives",
+        "--lmax",
+        "1",
+        "--points",
+        path_str(&points),
+        "--out",
+        path_str(&out),
+    ]);
+    assert_eq!(v["shape"], serde_json::json!([2, 4, 10]));
+    let (shape, d) = read_npy(&out);
+    assert_eq!(shape, [2, 4, 10]);
+    // Y_10 = c1 z / |x|: gradient c1 (e_z - z w), H_zz = c1 (3 z^3 - 3 z) (sh::solid).
+    let c1 = (3.0 / (4.0 * std::f64::consts::PI)).sqrt();
+    for (p, w) in [[1.0, 0.0, 0.0], [0.0, 0.6, 0.8]].iter().enumerate() {
+        let row = &d[(p * 4 + 2) * 10..(p * 4 + 3) * 10];
+        let z = w[2];
+        assert!((row[0] - c1 * z).abs() < 1e-15);
+        let g = [-c1 * z * w[0], -c1 * z * w[1], c1 - c1 * z * z];
+        for i in 0..3 {
+            assert!((row[1 + i] - g[i]).abs() < 1e-15, "{row:?}");
+        }
+        assert!((row[9] - c1 * (3.0 * z * z * z - 3.0 * z)).abs() < 1e-14);
+    }
+    write_npy(&points, &[1, 3], &[1.0, 1.0, 0.0]);
+    let bad = psh(&[
+        "eval",
+        "sh-derivatives",
+        "--lmax",
+        "1",
+        "--points",
+        path_str(&points),
+        "--out",
+        path_str(&out),
+    ]);
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("not a unit vector"));
+}
+
+#[test]
+fn eval_legendre_both_paths() {
+    let t = 0.4f64;
+    let (s, c) = t.sin_cos();
+    let k = 1.0 / (4.0 * std::f64::consts::PI);
+    let expect = [
+        (5.0 * k).sqrt() * 0.5 * (3.0 * c * c - 1.0),
+        -(15.0 * k / 2.0).sqrt() * s * c,
+        (15.0 * k / 8.0).sqrt() * s * s,
+    ];
+    for fast in [false, true] {
+        let mut args = vec!["eval", "legendre", "--l", "2", "--theta", "0.4"];
+        if fast {
+            args.push("--fast");
+        }
+        let v = psh_json(&args);
+        assert_eq!(v["path"], if fast { "fast" } else { "accurate" });
+        let values = v["values"].as_array().unwrap();
+        assert_eq!(values.len(), 3);
+        for (x, e) in values.iter().zip(expect) {
+            assert!((x.as_f64().unwrap() - e).abs() < 1e-15);
+        }
+    }
+    let bad = psh(&["eval", "legendre", "--l", "2", "--theta", "4"]);
+    assert_eq!(bad.status.code(), Some(1));
+}
+
+#[test]
+fn eval_sht_round_trips() {
+    let dir = eval_dir("sht");
+    let (c, g, back) = (dir.join("c.npy"), dir.join("g.npy"), dir.join("b.npy"));
+    let lmax = 3;
+    let n = (lmax + 1) * (lmax + 1);
+    // Real: Y_00 alone is the constant 1/sqrt(4 pi) on the 4 x 8 grid.
+    let mut coeffs = vec![0.0; n];
+    coeffs[0] = 1.0;
+    coeffs[7] = -0.25;
+    write_npy(&c, &[n as u64], &coeffs);
+    let v = psh_json(&[
+        "eval",
+        "sht",
+        "--kind",
+        "real",
+        "--lmax",
+        "3",
+        "--op",
+        "synthesis",
+        "--input",
+        path_str(&c),
+        "--out",
+        path_str(&g),
+    ]);
+    assert_eq!(v["grid"]["n_theta"], 4);
+    assert_eq!(v["grid"]["n_phi"], 8);
+    assert_eq!(v["grid"]["theta"].as_array().unwrap().len(), 4);
+    let (shape, _) = read_npy(&g);
+    assert_eq!(shape, [4, 8]);
+    psh_json(&[
+        "eval",
+        "sht",
+        "--kind",
+        "real",
+        "--lmax",
+        "3",
+        "--op",
+        "analysis",
+        "--input",
+        path_str(&g),
+        "--out",
+        path_str(&back),
+    ]);
+    let (shape, b) = read_npy(&back);
+    assert_eq!(shape, [n as u64]);
+    for (x, e) in b.iter().zip(&coeffs) {
+        assert!((x - e).abs() < 1e-14, "{b:?}");
+    }
+    // Complex: pairs [re, im].
+    let pairs: Vec<f64> = (0..2 * n).map(|i| (i as f64 * 0.37).sin()).collect();
+    write_npy(&c, &[n as u64, 2], &pairs);
+    psh_json(&[
+        "eval",
+        "sht",
+        "--kind",
+        "complex",
+        "--lmax",
+        "3",
+        "--op",
+        "synthesis",
+        "--input",
+        path_str(&c),
+        "--out",
+        path_str(&g),
+    ]);
+    assert_eq!(read_npy(&g).0, [4, 8, 2]);
+    psh_json(&[
+        "eval",
+        "sht",
+        "--kind",
+        "complex",
+        "--lmax",
+        "3",
+        "--op",
+        "analysis",
+        "--input",
+        path_str(&g),
+        "--out",
+        path_str(&back),
+    ]);
+    let (shape, b) = read_npy(&back);
+    assert_eq!(shape, [n as u64, 2]);
+    for (x, e) in b.iter().zip(&pairs) {
+        assert!((x - e).abs() < 1e-14);
+    }
+    // A wrong shape is named.
+    let bad = psh(&[
+        "eval",
+        "sht",
+        "--kind",
+        "real",
+        "--lmax",
+        "4",
+        "--op",
+        "synthesis",
+        "--input",
+        path_str(&c),
+        "--out",
+        path_str(&g),
+    ]);
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("expected an array of shape [25]"));
+}
+
+#[test]
+fn eval_spin_sht_round_trips() {
+    let dir = eval_dir("spin-sht");
+    let (c, g, back) = (dir.join("c.npy"), dir.join("g.npy"), dir.join("b.npy"));
+    let n = 16;
+    // Spin 2: entries with l < 2 are ignored by synthesis and zero after analysis.
+    let pairs: Vec<f64> = (0..2 * n)
+        .map(|i| if i < 8 { 0.0 } else { (i as f64 * 0.61).cos() })
+        .collect();
+    write_npy(&c, &[n as u64, 2], &pairs);
+    psh_json(&[
+        "eval",
+        "spin-sht",
+        "--spin",
+        "2",
+        "--lmax",
+        "3",
+        "--op",
+        "synthesis",
+        "--input",
+        path_str(&c),
+        "--out",
+        path_str(&g),
+    ]);
+    assert_eq!(read_npy(&g).0, [4, 8, 2]);
+    psh_json(&[
+        "eval",
+        "spin-sht",
+        "--spin",
+        "2",
+        "--lmax",
+        "3",
+        "--op",
+        "analysis",
+        "--input",
+        path_str(&g),
+        "--out",
+        path_str(&back),
+    ]);
+    let (shape, b) = read_npy(&back);
+    assert_eq!(shape, [n as u64, 2]);
+    for (x, e) in b.iter().zip(&pairs) {
+        assert!((x - e).abs() < 1e-14, "{b:?}");
+    }
+    let bad = psh(&[
+        "eval",
+        "spin-sht",
+        "--spin",
+        "0",
+        "--lmax",
+        "3",
+        "--op",
+        "synthesis",
+        "--input",
+        path_str(&c),
+        "--out",
+        path_str(&g),
+    ]);
+    assert_eq!(bad.status.code(), Some(1));
+}
+
+#[test]
+fn eval_fresnel_and_polarizer() {
+    // Normal incidence on glass: R = 0.04; the travel frames give diag(R, R, -R, -R), psh's
+    // frames R times the identity (optics::fresnel).
+    let v = psh_json(&["eval", "fresnel", "--n", "1.5", "--cos-i", "1,0.5"]);
+    let r = &v["results"];
+    assert_eq!(r.as_array().unwrap().len(), 2);
+    for i in 0..4 {
+        for j in 0..4 {
+            let t = r[0]["mueller_travel"][i][j].as_f64().unwrap();
+            let m = r[0]["mueller"][i][j].as_f64().unwrap();
+            let d = if i == j { 0.04 } else { 0.0 };
+            let sign = if i >= 2 { -1.0 } else { 1.0 };
+            assert!((t - sign * d).abs() < 1e-15 && (m - d).abs() < 1e-15, "{v}");
+        }
+    }
+    let bad = psh(&["eval", "fresnel", "--n", "1.5", "--cos-i", "1.5"]);
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("cos_theta_i"));
+    let v = psh_json(&["eval", "polarizer", "--angle", "0"]);
+    let expect = [
+        [0.5, 0.5, 0.0, 0.0],
+        [0.5, 0.5, 0.0, 0.0],
+        [0.0; 4],
+        [0.0; 4],
+    ];
+    for i in 0..4 {
+        for j in 0..4 {
+            assert_eq!(v["mueller"][i][j].as_f64().unwrap(), expect[i][j]);
+        }
+    }
+}

@@ -273,6 +273,152 @@ enum Eval {
     /// Spin-weighted SH sY_lm of all l <= lmax at one direction (flat order, zeros where
     /// l < |spin|), as [re, im] pairs.
     Swsh(SwshArgs),
+    /// One complex or real Wigner D block D^l (PSH (9), (13)) of the rotation given by a
+    /// rotation vector, written as a .npy file (rows m, columns m'; complex as [re, im]).
+    WignerBlock(WignerBlockArgs),
+    /// Spin-weighted SH sY_lm, l <= lmax, at many directions (a .npy of [theta, phi] rows),
+    /// written as a .npy of shape [points, (lmax+1)^2, 2] (flat order, [re, im]).
+    SwshPoints(SwshPointsArgs),
+    /// Real SH (PSH (12)) with their Cartesian gradients and Hessians (psh::sh::solid) at
+    /// many unit directions (a .npy of [x, y, z] rows), written as a .npy of shape
+    /// [points, (lmax+1)^2, 10]: value, gradient x, y, z, Hessian xx, xy, xz, yy, yz, zz.
+    ShDerivatives(ShDerivativesArgs),
+    /// Normalized associated Legendre functions Pbar_lm(theta), m = 0..=l, at one degree l
+    /// (PSH (1)), printing JSON.
+    Legendre(LegendreArgs),
+    /// Scalar SH transform (psh::sh::transform::ShTransform) on the Gauss-Legendre grid of
+    /// lmax + 1 rings by 2 lmax + 2 meridians, .npy in and out.
+    Sht(ShtArgs),
+    /// Spin-weighted SH transform (psh::swsh::transform::SpinTransform) on the same grid,
+    /// .npy in and out (complex as [re, im]).
+    SpinSht(SpinShtArgs),
+    /// Fresnel reflection of a planar interface (psh::optics::fresnel): amplitude
+    /// coefficients and the Mueller matrices in the travel frames and in psh's frames,
+    /// printing JSON.
+    Fresnel(FresnelArgs),
+    /// The Mueller matrix of the ideal linear polarizer (psh::optics::LinearPolarizer),
+    /// printing JSON.
+    Polarizer(PolarizerArgs),
+}
+
+#[derive(Args)]
+struct WignerBlockArgs {
+    #[arg(long, value_enum)]
+    kind: Kind,
+    /// The degree l of the block.
+    #[arg(long)]
+    l: usize,
+    /// Rotation vector X,Y,Z: axis times angle in radians (active rotation, PSH (8)).
+    #[arg(long, allow_hyphen_values = true)]
+    rotvec: String,
+    /// Output .npy: float64 [2l+1, 2l+1] (real) or [2l+1, 2l+1, 2] (complex).
+    #[arg(long)]
+    out: PathBuf,
+}
+
+#[derive(Args)]
+struct SwshPointsArgs {
+    /// Spin weight s.
+    #[arg(long, allow_hyphen_values = true)]
+    spin: i64,
+    #[arg(long)]
+    lmax: usize,
+    /// Input .npy: float64 [points, 2] of (theta, phi) in radians.
+    #[arg(long)]
+    points: PathBuf,
+    /// Output .npy: float64 [points, (lmax+1)^2, 2].
+    #[arg(long)]
+    out: PathBuf,
+}
+
+#[derive(Args)]
+struct ShDerivativesArgs {
+    #[arg(long)]
+    lmax: usize,
+    /// Input .npy: float64 [points, 3] of unit directions.
+    #[arg(long)]
+    points: PathBuf,
+    /// Output .npy: float64 [points, (lmax+1)^2, 10].
+    #[arg(long)]
+    out: PathBuf,
+}
+
+#[derive(Args)]
+struct LegendreArgs {
+    /// The degree l.
+    #[arg(long)]
+    l: usize,
+    /// Polar angle in radians, in [0, pi].
+    #[arg(long, allow_hyphen_values = true)]
+    theta: f64,
+    /// The f64 path of the transforms (psh::sh::legendre::Legendre) instead of the
+    /// double-double path (for_each_column_accurate).
+    #[arg(long)]
+    fast: bool,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum TransformOp {
+    /// Coefficients (flat order l*l + l + m) to grid values (ring-major).
+    Synthesis,
+    /// Grid values to coefficients.
+    Analysis,
+}
+
+#[derive(Args)]
+struct ShtArgs {
+    #[arg(long, value_enum)]
+    kind: Kind,
+    #[arg(long)]
+    lmax: usize,
+    #[arg(long, value_enum)]
+    op: TransformOp,
+    /// Input .npy: coefficients [(lmax+1)^2] (real) or [(lmax+1)^2, 2] (complex) for
+    /// synthesis; grid values [lmax+1, 2 lmax+2] (real) or [lmax+1, 2 lmax+2, 2] (complex)
+    /// for analysis.
+    #[arg(long)]
+    input: PathBuf,
+    /// Output .npy (the other of the two shapes).
+    #[arg(long)]
+    out: PathBuf,
+}
+
+#[derive(Args)]
+struct SpinShtArgs {
+    /// Spin weight s, 1 <= |s| <= lmax.
+    #[arg(long, allow_hyphen_values = true)]
+    spin: i64,
+    #[arg(long)]
+    lmax: usize,
+    #[arg(long, value_enum)]
+    op: TransformOp,
+    /// Input .npy: coefficients [(lmax+1)^2, 2] for synthesis; grid values
+    /// [lmax+1, 2 lmax+2, 2] for analysis.
+    #[arg(long)]
+    input: PathBuf,
+    /// Output .npy (the other of the two shapes).
+    #[arg(long)]
+    out: PathBuf,
+}
+
+#[derive(Args)]
+struct FresnelArgs {
+    /// Real part n of the relative index of refraction eta = n + i k.
+    #[arg(long)]
+    n: f64,
+    /// Extinction coefficient k >= 0 (e^{-i omega t} convention).
+    #[arg(long, default_value_t = 0.0)]
+    k: f64,
+    /// Cosines of the angle of incidence, comma-separated, each in [0, 1].
+    #[arg(long)]
+    cos_i: String,
+}
+
+#[derive(Args)]
+struct PolarizerArgs {
+    /// Angle varphi of the transmission axis from x towards y, in radians.
+    #[arg(long, allow_hyphen_values = true)]
+    angle: f64,
 }
 
 #[derive(Args)]
@@ -359,6 +505,14 @@ fn main() -> ExitCode {
         Command::Eval(Eval::Sh(a)) => eval_sh(&a),
         Command::Eval(Eval::Wigner(a)) => eval_wigner(&a),
         Command::Eval(Eval::Swsh(a)) => eval_swsh(&a),
+        Command::Eval(Eval::WignerBlock(a)) => eval_wigner_block(&a),
+        Command::Eval(Eval::SwshPoints(a)) => eval_swsh_points(&a),
+        Command::Eval(Eval::ShDerivatives(a)) => eval_sh_derivatives(&a),
+        Command::Eval(Eval::Legendre(a)) => eval_legendre(&a),
+        Command::Eval(Eval::Sht(a)) => eval_sht(&a),
+        Command::Eval(Eval::SpinSht(a)) => eval_spin_sht(&a),
+        Command::Eval(Eval::Fresnel(a)) => eval_fresnel(&a),
+        Command::Eval(Eval::Polarizer(a)) => eval_polarizer(&a),
         Command::Project(a) => project(&a),
         Command::Rotate(a) => rotate(&a),
         Command::Reconstruct(a) => reconstruct(&a),
@@ -780,4 +934,307 @@ fn eval_wigner(a: &WignerArgs) -> psh::Result<serde_json::Value> {
         }
     })?;
     Ok(json!({"lmax": a.lmax, "kind": a.kind.name(), "rotvec": v, "blocks": blocks}))
+}
+
+// ---- `psh eval` on .npy files (the external cross-validation suite, validation/) ----
+
+/// Largest degree of `psh eval wigner-block` (the recursion costs l^3).
+const MAX_WIGNER_BLOCK_DEGREE: usize = 1024;
+
+/// Largest number of values `psh eval swsh-points` and `sh-derivatives` write.
+const MAX_EVAL_VALUES: usize = 1 << 27;
+
+/// A float64 `.npy` file in C order: its shape and data.
+fn read_npy(path: &std::path::Path) -> psh::Result<(Vec<u64>, Vec<f64>)> {
+    let bytes = std::fs::read(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let bad = |reason: String| Error::MalformedFile {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let npy = npyz::NpyFile::new(&bytes[..]).map_err(|e| bad(format!("not a .npy file: {e}")))?;
+    if npy.order() != npyz::Order::C && npy.shape().len() > 1 {
+        return Err(bad("expected a C-order array".into()));
+    }
+    let shape = npy.shape().to_vec();
+    let data: Vec<f64> = npy
+        .into_vec()
+        .map_err(|e| bad(format!("expected float64 data: {e}")))?;
+    Ok((shape, data))
+}
+
+/// A `.npy` file whose shape must be `want`.
+fn read_npy_shaped(path: &std::path::Path, want: &[u64]) -> psh::Result<Vec<f64>> {
+    let (shape, data) = read_npy(path)?;
+    if shape != want {
+        return Err(Error::MalformedFile {
+            path: path.to_path_buf(),
+            reason: format!("expected an array of shape {want:?}, got {shape:?}"),
+        });
+    }
+    Ok(data)
+}
+
+/// A `.npy` file of `rows` x `width` with any number of rows (at least one).
+fn read_npy_rows(path: &std::path::Path, width: u64) -> psh::Result<(usize, Vec<f64>)> {
+    let (shape, data) = read_npy(path)?;
+    match shape[..] {
+        [n, w] if w == width && n > 0 => Ok((n as usize, data)),
+        _ => Err(Error::MalformedFile {
+            path: path.to_path_buf(),
+            reason: format!("expected an array of shape [n, {width}] with n >= 1, got {shape:?}"),
+        }),
+    }
+}
+
+/// Writes a float64 `.npy` file of `shape` (C order).
+fn write_npy(
+    path: &std::path::Path,
+    shape: &[u64],
+    data: impl IntoIterator<Item = f64>,
+) -> psh::Result<()> {
+    use npyz::WriterBuilder;
+    let err = |source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let file = std::io::BufWriter::new(std::fs::File::create(path).map_err(err)?);
+    let mut w = npyz::WriteOptions::new()
+        .default_dtype()
+        .shape(shape)
+        .writer(file)
+        .begin_nd()
+        .map_err(err)?;
+    w.extend(data).map_err(err)?;
+    w.finish().map_err(err)
+}
+
+/// `[re, im]` pairs to complex numbers.
+fn complex_of_pairs(data: &[f64]) -> Vec<Complex64> {
+    data.chunks_exact(2)
+        .map(|p| Complex64::new(p[0], p[1]))
+        .collect()
+}
+
+/// Complex numbers to a flat `[re, im, re, im, ...]` stream.
+fn pairs_flat(v: &[Complex64]) -> impl Iterator<Item = f64> + '_ {
+    v.iter().flat_map(|z| [z.re, z.im])
+}
+
+/// Errors when `count` values exceed [`MAX_EVAL_VALUES`].
+fn check_output_size(name: &'static str, count: usize) -> psh::Result<()> {
+    if count > MAX_EVAL_VALUES {
+        return Err(Error::InvalidArgument {
+            name,
+            value: count.to_string(),
+            reason: format!("at most {MAX_EVAL_VALUES} output values"),
+        });
+    }
+    Ok(())
+}
+
+fn eval_wigner_block(a: &WignerBlockArgs) -> psh::Result<serde_json::Value> {
+    let v = parse_rotvec(&a.rotvec)?;
+    if a.l > MAX_WIGNER_BLOCK_DEGREE {
+        return Err(Error::DegreeOutOfRange {
+            name: "l",
+            value: a.l as i64,
+            reason: format!("psh eval wigner-block computes at most l = {MAX_WIGNER_BLOCK_DEGREE}"),
+        });
+    }
+    let r = rotation_from_rotvec(v)?;
+    let n = (2 * a.l + 1) as u64;
+    let mut block = Vec::new();
+    for_each_block(&r, a.l, |l, b| {
+        if l == a.l {
+            block = b.to_vec();
+        }
+    })?;
+    let shape = match a.kind {
+        Kind::Complex => {
+            write_npy(&a.out, &[n, n, 2], pairs_flat(&block))?;
+            vec![n, n, 2]
+        }
+        Kind::Real => {
+            let mut real = Vec::new();
+            real_block(a.l, &block, &mut real);
+            write_npy(&a.out, &[n, n], real)?;
+            vec![n, n]
+        }
+    };
+    Ok(json!({"l": a.l, "kind": a.kind.name(), "rotvec": v, "out": a.out, "shape": shape}))
+}
+
+fn eval_swsh_points(a: &SwshPointsArgs) -> psh::Result<serde_json::Value> {
+    if a.lmax > MAX_SWSH_EVAL_DEGREE {
+        return Err(Error::DegreeOutOfRange {
+            name: "lmax",
+            value: a.lmax as i64,
+            reason: format!("psh eval swsh-points evaluates at most lmax = {MAX_SWSH_EVAL_DEGREE}"),
+        });
+    }
+    let (count, points) = read_npy_rows(&a.points, 2)?;
+    let n = psh::sh::num_coeffs(a.lmax);
+    check_output_size("number of points", count.saturating_mul(n))?;
+    let mut out = Vec::with_capacity(count * n);
+    for p in points.chunks_exact(2) {
+        out.extend(psh::swsh::swsh(a.spin, a.lmax, p[0], p[1])?);
+    }
+    let shape = [count as u64, n as u64, 2];
+    write_npy(&a.out, &shape, pairs_flat(&out))?;
+    Ok(json!({"spin": a.spin, "lmax": a.lmax, "points": count, "out": a.out, "shape": shape}))
+}
+
+fn eval_sh_derivatives(a: &ShDerivativesArgs) -> psh::Result<serde_json::Value> {
+    let sh = psh::sh::solid::SolidHarmonics::new(a.lmax)?;
+    let (count, points) = read_npy_rows(&a.points, 3)?;
+    let n = sh.len();
+    check_output_size(
+        "number of points",
+        count.saturating_mul(n).saturating_mul(10),
+    )?;
+    let dirs: Vec<[f64; 3]> = points.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+    let mut values = vec![0.0; count * n];
+    let mut gradients = vec![[0.0; 3]; count * n];
+    let mut hessians = vec![[0.0; 6]; count * n];
+    sh.eval_batch(&dirs, &mut values, &mut gradients, &mut hessians)?;
+    let rows = (0..count * n).flat_map(|i| {
+        std::iter::once(values[i])
+            .chain(gradients[i])
+            .chain(hessians[i])
+    });
+    let shape = [count as u64, n as u64, 10];
+    write_npy(&a.out, &shape, rows)?;
+    Ok(json!({
+        "lmax": a.lmax, "points": count, "out": a.out, "shape": shape,
+        "hessian_entries": ["xx", "xy", "xz", "yy", "yz", "zz"],
+    }))
+}
+
+fn eval_legendre(a: &LegendreArgs) -> psh::Result<serde_json::Value> {
+    use psh::sh::legendre::{for_each_column_accurate, Legendre, Polar};
+    psh::sh::check_lmax(a.l)?;
+    psh::sh::check_theta(a.theta)?;
+    let mut values = vec![0.0; a.l + 1];
+    let mut keep = |m: usize, col: &[f64]| values[m] = col[a.l - m];
+    let path = if a.fast {
+        Legendre::new(a.l)?.for_each_column(Polar::from_theta(a.theta), &mut keep);
+        "fast"
+    } else {
+        for_each_column_accurate(a.l, Polar::from_theta_accurate(a.theta), &mut keep);
+        "accurate"
+    };
+    Ok(json!({"l": a.l, "theta": a.theta, "path": path, "values": values}))
+}
+
+/// The grid of a transform as JSON: its size and polar angles.
+fn grid_json(grid: &psh::sh::grid::SphereGrid) -> serde_json::Value {
+    json!({"n_theta": grid.rings.len(), "n_phi": grid.n_phi, "theta": grid.rings.theta})
+}
+
+fn eval_sht(a: &ShtArgs) -> psh::Result<serde_json::Value> {
+    let t = psh::sh::transform::ShTransform::new(a.lmax)?;
+    let grid = t.grid();
+    let n = psh::sh::num_coeffs(a.lmax) as u64;
+    let (nt, np) = (grid.rings.len() as u64, grid.n_phi as u64);
+    let shape = match (a.kind, a.op) {
+        (Kind::Real, TransformOp::Synthesis) => {
+            let c = read_npy_shaped(&a.input, &[n])?;
+            let mut out = vec![0.0; grid.len()];
+            t.synthesis_real(&c, &mut out)?;
+            write_npy(&a.out, &[nt, np], out)?;
+            vec![nt, np]
+        }
+        (Kind::Real, TransformOp::Analysis) => {
+            let v = read_npy_shaped(&a.input, &[nt, np])?;
+            let mut out = vec![0.0; n as usize];
+            t.analysis_real(&v, &mut out)?;
+            write_npy(&a.out, &[n], out)?;
+            vec![n]
+        }
+        (Kind::Complex, TransformOp::Synthesis) => {
+            let c = complex_of_pairs(&read_npy_shaped(&a.input, &[n, 2])?);
+            let mut out = vec![Complex64::default(); grid.len()];
+            t.synthesis_complex(&c, &mut out)?;
+            write_npy(&a.out, &[nt, np, 2], pairs_flat(&out))?;
+            vec![nt, np, 2]
+        }
+        (Kind::Complex, TransformOp::Analysis) => {
+            let v = complex_of_pairs(&read_npy_shaped(&a.input, &[nt, np, 2])?);
+            let mut out = vec![Complex64::default(); n as usize];
+            t.analysis_complex(&v, &mut out)?;
+            write_npy(&a.out, &[n, 2], pairs_flat(&out))?;
+            vec![n, 2]
+        }
+    };
+    Ok(json!({
+        "kind": a.kind.name(), "lmax": a.lmax, "out": a.out, "shape": shape,
+        "grid": grid_json(grid),
+    }))
+}
+
+fn eval_spin_sht(a: &SpinShtArgs) -> psh::Result<serde_json::Value> {
+    let t = psh::swsh::transform::SpinTransform::new(a.spin, a.lmax)?;
+    let grid = t.grid();
+    let n = psh::sh::num_coeffs(a.lmax) as u64;
+    let (nt, np) = (grid.rings.len() as u64, grid.n_phi as u64);
+    let shape = match a.op {
+        TransformOp::Synthesis => {
+            let c = complex_of_pairs(&read_npy_shaped(&a.input, &[n, 2])?);
+            let mut out = vec![Complex64::default(); grid.len()];
+            t.synthesis(&c, &mut out)?;
+            write_npy(&a.out, &[nt, np, 2], pairs_flat(&out))?;
+            vec![nt, np, 2]
+        }
+        TransformOp::Analysis => {
+            let v = complex_of_pairs(&read_npy_shaped(&a.input, &[nt, np, 2])?);
+            let mut out = vec![Complex64::default(); n as usize];
+            t.analysis(&v, &mut out)?;
+            write_npy(&a.out, &[n, 2], pairs_flat(&out))?;
+            vec![n, 2]
+        }
+    };
+    Ok(json!({
+        "spin": a.spin, "lmax": a.lmax, "out": a.out, "shape": shape, "grid": grid_json(grid),
+    }))
+}
+
+/// A Mueller matrix as rows of JSON numbers.
+fn mueller_rows(m: &psh::stokes::MuellerMatrix) -> Vec<[f64; 4]> {
+    let m = m.matrix();
+    (0..4)
+        .map(|i| [m[(i, 0)], m[(i, 1)], m[(i, 2)], m[(i, 3)]])
+        .collect()
+}
+
+fn eval_fresnel(a: &FresnelArgs) -> psh::Result<serde_json::Value> {
+    let ior = psh::optics::ComplexIor::new(a.n, a.k)?;
+    let results = a
+        .cos_i
+        .split(',')
+        .map(|x| {
+            let c: f64 = x.trim().parse().map_err(|_| Error::InvalidArgument {
+                name: "--cos-i",
+                value: x.to_string(),
+                reason: "cosines in [0, 1], comma-separated".into(),
+            })?;
+            let f = psh::optics::fresnel(c, &ior)?;
+            Ok(json!({
+                "cos_i": c,
+                "r_s": [f.r_s().re, f.r_s().im],
+                "r_p": [f.r_p().re, f.r_p().im],
+                "total_internal_reflection": f.is_total_internal_reflection(),
+                "mueller_travel": mueller_rows(&f.mueller_travel()),
+                "mueller": mueller_rows(&f.mueller()),
+            }))
+        })
+        .collect::<psh::Result<Vec<_>>>()?;
+    Ok(json!({"n": a.n, "k": a.k, "results": results}))
+}
+
+fn eval_polarizer(a: &PolarizerArgs) -> psh::Result<serde_json::Value> {
+    let p = psh::optics::LinearPolarizer::new(a.angle)?;
+    Ok(json!({"angle": a.angle, "mueller": mueller_rows(&p.mueller())}))
 }

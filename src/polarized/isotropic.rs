@@ -359,20 +359,6 @@ impl IsotropicMatrix {
 mod tests {
     use super::*;
 
-    /// The position of entry `(l_i, l_o, m_i, m_o)` in polarsh's `ISOBI2` layout by the
-    /// closed form of its definition (`lms2idx`): the entries of the shells below
-    /// `n = max(l_o, l_i)`, `n (4 n^2 - 3 n + 2) / 3`; of the lower pairs of the shell,
-    /// `2 k (2 k - 1)` for `k = min(l_o, l_i)`; `4 k + 1` more when `l_i > l_o`; then
-    /// `2 (k + m_i)` and `+1` when `m_o > m_i`, `-1` when `m_o < m_i`.
-    fn polarsh_index(li: usize, lo: usize, mi: i64, mo: i64) -> usize {
-        let (n, k) = (li.max(lo) as i64, li.min(lo) as i64);
-        let shells = n * (4 * n * n - 3 * n + 2) / 3;
-        let lower = 2 * k * (2 * k - 1);
-        let second = if li > lo { 4 * k + 1 } else { 0 };
-        let within = 2 * (k + mi) + (mo - mi).signum();
-        (shells + lower + second + within) as usize
-    }
-
     #[test]
     fn layout_is_polarsh_isobi2() {
         // SHMat_*_L20_ISOBI2.npz: 10280 entries for l < 20.
@@ -388,7 +374,11 @@ mod tests {
         for lmax in 0..9 {
             for (k, &(jo, ji)) in isotropic_pairs(lmax).iter().enumerate() {
                 let ((lo, mo), (li, mi)) = (lm_of_index(jo), lm_of_index(ji));
-                assert_eq!(polarsh_index(li, lo, mi, mo), k, "{lo} {mo} {li} {mi}");
+                assert_eq!(
+                    crate::verify::isobi2_index(li, lo, mi, mo),
+                    k,
+                    "{lo} {mo} {li} {mi}"
+                );
             }
         }
         for l in 0..12 {
