@@ -3,8 +3,8 @@
 use super::{pseudo_random, Check};
 use crate::error::Result;
 use crate::optics::filter::{
-    filter_angle, ior_from_r0, mueller_filtered_reflection, omega, omega_ior, psi, psi_dielectric,
-    Incidence,
+    beta_approx, filter_angle, gamma_approx, ior_from_r0, mueller_filtered_reflection, omega,
+    omega_ior, psi, psi_dielectric, Incidence,
 };
 use crate::optics::filter_table::{psi_curves, SpecularSource};
 use crate::optics::{
@@ -73,7 +73,76 @@ pub fn checks() -> Vec<Check> {
             proof: None,
             run: malus,
         },
+        Check {
+            id: "filter.beta_approx",
+            source: "PF (15)",
+            description: "beta~(R_0) = 0.1/(1.095 - R_0)^3 + 5.4 R_0^2 + 1 at every conductor R_0 printed in Table 1 and at 0, 0.04, 0.2, 0.5, 0.99, vs the printed formula in exact rational arithmetic (decimal constants, the f64 input exactly; 25 digits; largest relative difference)",
+            // Rounding the constant 1.095 and the difference 1.095 - R_0 is amplified by
+            // 3 (1.095/(1.095 - R_0) + 1)/2, at most 17 at R_0 = 0.99: about 20 eps =
+            // 2.2e-15 in the worst case; measured 9.2e-16, tolerance 45 ulps.
+            tolerance: 1e-14,
+            proof: PROOF,
+            run: || approx_oracle(0),
+        },
+        Check {
+            id: "filter.gamma_approx",
+            source: "PF (16)",
+            description: "gamma~(R_0) = 0.16 R_0^2/(1.18 - R_0)^2 + 0.35 (1.18 - R_0) at every conductor R_0 printed in Table 1 and at 0, 0.04, 0.2, 0.5, 0.99, vs the printed formula in exact rational arithmetic (decimal constants, the f64 input exactly; 25 digits; largest relative difference)",
+            // Rounding of 1.18 - R_0 amplified by 2 (1.18/(1.18 - R_0) + 1)/2 <= 7.2 at
+            // R_0 = 0.99, plus a few operations: about 10 eps; measured 6.3e-16,
+            // tolerance 45 ulps.
+            tolerance: 1e-14,
+            proof: PROOF,
+            run: || approx_oracle(1),
+        },
     ]
+}
+
+/// `(R_0, beta~(R_0), gamma~(R_0))` of PF (15), (16) evaluated exactly: `R_0` the exact
+/// value of the f64 literal, the printed decimal constants, rational arithmetic (Python
+/// `fractions`), rounded to 25 significant digits (`proofs/polarizing-filter.md` §7).
+const APPROX_ORACLE: [(f64, f64, f64); 26] = [
+    (0.0, 1.076165385136458380044136, 0.413),
+    (0.04, 1.093801366418382251825496, 0.3991969836872883961467260),
+    (0.2, 1.355486087919127390257047, 0.3496638900458142410700206),
+    (0.37, 2.001673383082537186829739, 0.3168851547020271303975029),
+    (0.43, 2.338503959182823318335832, 0.3150937777777777775454816),
+    (0.5, 2.824732651340318628687263, 0.3245051903114186851211073),
+    (0.51, 2.904036445146237021546645, 0.3272066161728670108206769),
+    (0.53, 3.071300129822156628817969, 0.3338763313609467556535754),
+    (0.54, 3.159593105040760583078445, 0.3379062500000000151996471),
+    (0.58, 3.548673327482527237055902, 0.3595111111111110845753005),
+    (0.59, 3.656212118342115215048584, 0.3664999999999999771595134),
+    (0.62, 4.008840623997667242532990, 0.3921224489795918323688956),
+    (0.63, 4.137843250969407921140797, 0.4024305785123966990102854),
+    (0.64, 4.273451978167949854316384, 0.4137462277091906879373481),
+    (0.68, 4.896082400474303346587559, 0.4709360000000000832471159),
+    (0.72, 5.695656296296295684882167, 0.5529848771266539991741793),
+    (0.78, 7.484758513079542082639953, 0.7484000000000001132960392),
+    (0.79, 7.894664079107944490330547, 0.7930154503616043739827885),
+    (0.89, 16.88483263649686111342916, 1.608467895362663674752861),
+    (0.91, 21.26547383610053538302360, 1.912003429355281738941033),
+    (0.92, 24.22945212827989656348893, 2.094313609467456397286423),
+    (0.93, 27.93163928597269466497303, 2.301644000000001080790000),
+    (0.94, 32.62518777617398404674064, 2.538444444444443094807992),
+    (0.95, 38.67517288531712058072474, 2.810178638941397572018167),
+    (0.96, 46.62085074023265564986615, 3.123611570247932687261228),
+    (0.99, 92.67629985314758623348751, 4.410433518005539685245365),
+];
+
+/// Largest relative difference of `beta~` (`which = 0`) or `gamma~` (`which = 1`) from the
+/// exact values.
+fn approx_oracle(which: usize) -> Result<f64> {
+    let mut worst = 0.0f64;
+    for (r0, beta, gamma) in APPROX_ORACLE {
+        let (got, want) = if which == 0 {
+            (beta_approx(r0)?, beta)
+        } else {
+            (gamma_approx(r0)?, gamma)
+        };
+        worst = worst.max((got - want).abs() / want);
+    }
+    Ok(worst)
 }
 
 /// The incidence angles 0, 0.5, ..., 89.5 degrees.
