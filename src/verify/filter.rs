@@ -130,8 +130,8 @@ const APPROX_ORACLE: [(f64, f64, f64); 26] = [
     (0.99, 92.67629985314758623348751, 4.410433518005539685245365),
 ];
 
-/// Largest relative difference of `beta~` (`which = 0`) or `gamma~` (`which = 1`) from the
-/// exact values.
+/// PF (15) (`which = 0`, `beta~`) or PF (16) (`which = 1`, `gamma~`): the largest relative
+/// difference from the exact values.
 fn approx_oracle(which: usize) -> Result<f64> {
     let mut worst = 0.0f64;
     for (r0, beta, gamma) in APPROX_ORACLE {

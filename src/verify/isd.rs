@@ -128,6 +128,7 @@ fn rotations(dirs: &DirectionSet, twists: &[f64]) -> Result<Vec<nalgebra::Rotati
         .collect()
 }
 
+/// ISD (8): `phi_l^m(w) = y_l^0((R_l^m)^-1 w)` for any rotation with `R_l^m z = z_l^m`.
 fn rotated_zonal() -> Result<f64> {
     let lmax = 8;
     let n = num_coeffs(lmax);
@@ -153,6 +154,8 @@ fn rotated_zonal() -> Result<f64> {
     Ok(worst)
 }
 
+/// ISD (10): `(M_l)_ij = pi_l y_l^i(z_l^j)` are the SH coefficients of `phi_l^j`, and the
+/// weights solve `c = M Lambda`.
 fn rzh_matrix() -> Result<f64> {
     let lmax = 8;
     let n = num_coeffs(lmax);
@@ -232,6 +235,7 @@ fn gaussian_beta(lmax: usize) -> nalgebra::DMatrix<f64> {
     beta
 }
 
+/// ISD (19): the Gaussian profile through its ZH coefficients.
 fn gaussian_profile() -> Result<f64> {
     let lmax = 12;
     let got = Profile::Gaussian.beta(lmax)?;
@@ -314,6 +318,7 @@ fn gram_condition(beta: &nalgebra::DMatrix<f64>, dirs: &DirectionSet) -> f64 {
     (hi / lo).sqrt()
 }
 
+/// ISD Fig. 13 (Sec. 7.2): condition numbers of `M`, and the effect of sharing directions.
 fn conditioning() -> Result<f64> {
     use crate::isd::decomposition::{condition_number, transfer_matrix};
     let mut worst = 0.0f64;

@@ -120,6 +120,8 @@ fn brute_force_matrix(
     Ok(out)
 }
 
+/// PSH (42): the coefficient matrix computed block by spin equals PSH (40) with the full
+/// Mueller matrix.
 fn spin_blocks() -> Result<f64> {
     let plastic = crate::optics::PolarizedPlastic::new(0.3, 1.5, 0.5)?;
     let gold = crate::optics::Conductor::new(0.4, 0.18, 3.4)?;

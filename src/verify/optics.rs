@@ -41,6 +41,7 @@ fn jones_to_mueller(j: &nalgebra::Matrix2<Complex64>) -> nalgebra::Matrix4<f64> 
     nalgebra::Matrix4::from_fn(|p, q| 0.5 * (sigma[p] * j * sigma[q] * j.adjoint()).trace().re)
 }
 
+/// PF (7): the Fresnel Mueller matrix against the Mueller matrix of its Jones matrix.
 fn fresnel_mueller() -> Result<f64> {
     let mut iors: Vec<ComplexIor> = Material::ALL
         .iter()
