@@ -76,7 +76,8 @@ pub fn checks() -> Vec<Check> {
             source: "PSH Fig. 17",
             description: "the rotation average (Euler grid of resolution n = L + 1, exact for band L) of a polarized plastic's coefficient matrix (L = 3) vs its orthogonal projection onto the convolutions (the Haar average of an orthogonal representation is that projection), vs the Schur closed form delta_ll' delta_mm' tr(M^l_pq)/(2l + 1) of its spin-0 blocks, and its own distance to the convolutions (relative to the largest entry); the residual must fall from n = 1 to n = L + 1 (error 1 if not)",
             // Sums of 2 n^3 = 128 rotated matrices, each O(lmax^5) rounded products;
-            // measured 9.3e-16, tolerance 45 ulps.
+            // measured 9.3e-16, tolerance 45 ulps. (The residuals at n = 1, 2, 3, 4 are
+            // 0.74, 0.22, 0.046, 9.3e-16: Fig. 17(b)'s convergence, exact at n = L + 1.)
             tolerance: 1e-14,
             proof: Some("proofs/convolution.md"),
             run: rotation_average_check,

@@ -309,7 +309,11 @@ fn rotation() -> Result<f64> {
         let scale = want[0];
         let s = stored(&j, f)?;
         let turned = s.rotate(&rot)?;
-        worst = worst.max((Vector3::from(turned.direction()) - rw).norm());
+        // The result lies on the ray R w (else it cannot be read in g at all).
+        let off_ray = (Vector3::from(turned.direction()) - rw).norm();
+        if off_ray > 1e-12 {
+            return Ok(off_ray);
+        }
         let rel = |a: &[f64], b: &[f64]| max_diff(a, b) / scale;
         worst = worst.max(rel(&turned.components_in(&g)?.to_array(), &want));
         let by_mueller = MuellerTransform::rotation(&rot, f)?.apply(&s)?;
