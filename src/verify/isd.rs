@@ -123,7 +123,10 @@ fn rotations(dirs: &DirectionSet, twists: &[f64]) -> Result<Vec<nalgebra::Rotati
     (0..num_coeffs(dirs.lmax()))
         .map(|j| {
             let (l, m) = crate::sh::lm_of_index(j);
-            rotation_to(dirs.distinct()[dirs.index(l, m)], std::f64::consts::PI * twists[j])
+            rotation_to(
+                dirs.distinct()[dirs.index(l, m)],
+                std::f64::consts::PI * twists[j],
+            )
         })
         .collect()
 }
@@ -311,10 +314,14 @@ fn gram_condition(beta: &nalgebra::DMatrix<f64>, dirs: &DirectionSet) -> f64 {
         let ((lj, a), (lk, b)) = (z(j), z(k));
         let t = (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]).clamp(-1.0, 1.0);
         let p = legendre(lmax, t);
-        (0..=lmax).map(|lp| beta[(lj, lp)] * beta[(lk, lp)] * p[lp]).sum()
+        (0..=lmax)
+            .map(|lp| beta[(lj, lp)] * beta[(lk, lp)] * p[lp])
+            .sum()
     });
     let e = jacobi_eigenvalues(g);
-    let (lo, hi) = e.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &x| (lo.min(x), hi.max(x)));
+    let (lo, hi) = e.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &x| {
+        (lo.min(x), hi.max(x))
+    });
     (hi / lo).sqrt()
 }
 
@@ -322,19 +329,20 @@ fn gram_condition(beta: &nalgebra::DMatrix<f64>, dirs: &DirectionSet) -> f64 {
 fn conditioning() -> Result<f64> {
     use crate::isd::decomposition::{condition_number, transfer_matrix};
     let mut worst = 0.0f64;
-    let betas = |profile: Profile, lmax: usize| -> Result<nalgebra::DMatrix<f64>> {
-        Ok(match profile {
-            Profile::Zonal => nalgebra::DMatrix::identity(lmax + 1, lmax + 1),
-            Profile::Legendre => nalgebra::DMatrix::from_fn(lmax + 1, lmax + 1, |l, lp| {
-                if l == lp {
-                    pi_l(l)
-                } else {
-                    0.0
-                }
-            }),
-            _ => gaussian_beta(lmax),
-        })
-    };
+    let betas =
+        |profile: Profile, lmax: usize| -> Result<nalgebra::DMatrix<f64>> {
+            Ok(match profile {
+                Profile::Zonal => nalgebra::DMatrix::identity(lmax + 1, lmax + 1),
+                Profile::Legendre => nalgebra::DMatrix::from_fn(lmax + 1, lmax + 1, |l, lp| {
+                    if l == lp {
+                        pi_l(l)
+                    } else {
+                        0.0
+                    }
+                }),
+                _ => gaussian_beta(lmax),
+            })
+        };
     for profile in [Profile::Zonal, Profile::Legendre, Profile::Gaussian] {
         for pattern in [Pattern::Fibonacci, Pattern::Halton] {
             for sharing in [Sharing::PerBand, Sharing::Shared] {
@@ -355,11 +363,18 @@ fn conditioning() -> Result<f64> {
         for profile in Profile::ALL {
             let cond = |sharing| -> Result<f64> {
                 let dirs = DirectionSet::from_pattern(pattern, sharing, 8)?;
-                Ok(condition_number(&transfer_matrix(&profile.beta(8)?, &dirs)?))
+                Ok(condition_number(&transfer_matrix(
+                    &profile.beta(8)?,
+                    &dirs,
+                )?))
             };
             let ratio = (cond(Sharing::Shared)? / cond(Sharing::PerBand)?).log10();
             let global = matches!(profile, Profile::Zonal | Profile::Legendre);
-            let holds = if global { ratio.abs() < 1.5 } else { ratio >= 3.0 };
+            let holds = if global {
+                ratio.abs() < 1.5
+            } else {
+                ratio >= 3.0
+            };
             if !holds {
                 worst = worst.max(1.0);
             }

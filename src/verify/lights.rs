@@ -86,7 +86,12 @@ const TAYLOR_POINTS: [[f64; 3]; 4] = [
 ];
 
 /// `(L(x + h u) - L(x) - h grad L . u, h^2 u^T H u / 2)` for every coefficient.
-fn remainders(lights: &SphericalLights, x: [f64; 3], u: [f64; 3], h: f64) -> Result<Vec<(f64, f64)>> {
+fn remainders(
+    lights: &SphericalLights,
+    x: [f64; 3],
+    u: [f64; 3],
+    h: f64,
+) -> Result<Vec<(f64, f64)>> {
     let f0 = field_at(lights, x)?;
     let f1 = lights.field(std::array::from_fn(|i| x[i] + h * u[i]), Order::Values)?;
     Ok((0..f0.coefficients.len())

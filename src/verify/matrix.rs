@@ -85,7 +85,10 @@ fn brute_force_matrix(
             }
             let mut data = vec![0.0; big * 4];
             data[j * 4 + p] = 1.0;
-            basis[j * 4 + p] = t.reconstruct(&PshVector::from_data(grid_lmax, Codomain::Full, 1, data)?, 0)?;
+            basis[j * 4 + p] = t.reconstruct(
+                &PshVector::from_data(grid_lmax, Codomain::Full, 1, data)?,
+                0,
+            )?;
         }
     }
     let tp = ThetaPhiFrameField::new();

@@ -60,7 +60,10 @@ fn fresnel_mueller() -> Result<f64> {
             let (fs, fp) = (rs.norm_sqr(), rp.norm_sqr());
             let (a, b) = (0.5 * (fs + fp), 0.5 * (fs - fp));
             let delta = rp.arg() - rs.arg();
-            let (c, s) = ((fs * fp).sqrt() * delta.cos(), (fs * fp).sqrt() * delta.sin());
+            let (c, s) = (
+                (fs * fp).sqrt() * delta.cos(),
+                (fs * fp).sqrt() * delta.sin(),
+            );
             let printed = nalgebra::Matrix4::new(
                 a, b, 0.0, 0.0, //
                 b, a, 0.0, 0.0, //

@@ -125,7 +125,10 @@ fn field_rotation() -> Result<f64> {
     for i in 0..grid.len() {
         let (w, u) = (grid.direction(i), rg.direction(i));
         let want = coherency_stokes(&transverse_part(&a_rot, w), &tp.frame(w)?);
-        compare(coherency_stokes(&transverse_part(&a, u), &rf.frame(u)?), want);
+        compare(
+            coherency_stokes(&transverse_part(&a, u), &rf.frame(u)?),
+            want,
+        );
         // 2. R_S of the value at R^-1 w, stored in an unrelated frame there.
         let src = q * Vector3::from(w);
         let src = [src.x, src.y, src.z];

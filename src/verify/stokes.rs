@@ -189,7 +189,10 @@ fn outer(e: &[Complex64; 3]) -> Coherency {
 pub(super) fn random_beam(f: &Frame, r: &[f64]) -> Coherency {
     let (x, y) = (f.x(), f.y());
     let field = |k: usize| {
-        let (a, b) = (Complex64::new(r[k], r[k + 1]), Complex64::new(r[k + 2], r[k + 3]));
+        let (a, b) = (
+            Complex64::new(r[k], r[k + 1]),
+            Complex64::new(r[k + 2], r[k + 3]),
+        );
         [0, 1, 2].map(|i| a * x[i] + b * y[i])
     };
     outer(&field(0)) + outer(&field(4))
