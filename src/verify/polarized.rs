@@ -121,7 +121,7 @@ fn field_rotation() -> Result<f64> {
     // 1. The rotated grid and frame field (q = R^-1): the field at q w_i in q F(w_i).
     let grid = Equirect::new(24, 48)?;
     let q = rot.inverse();
-    let (rg, rf) = (Rotated::new(grid.clone(), q), Rotated::new(tp.clone(), q));
+    let (rg, rf) = (Rotated::new(grid.clone(), q), Rotated::new(tp, q));
     for i in 0..grid.len() {
         let (w, u) = (grid.direction(i), rg.direction(i));
         let want = coherency_stokes(&transverse_part(&a_rot, w), &tp.frame(w)?);
