@@ -150,7 +150,8 @@ impl Isd {
     }
 
     /// The decomposed kernel at the unit direction `w`, in the angular domain (ISD (12)):
-    /// `sum_lm lambda_l^m g_l(w . z_l^m)`.
+    /// `sum_lm lambda_l^m g_l(w . z_l^m)`, with `g_l(w . z_l^m) = phi_l((R_l^m)^-1 w)` the
+    /// rotated mother function of ISD (8) (any rotation with `R_l^m z = z_l^m`).
     pub fn evaluate(&self, lambda: &[f64], w: [f64; 3]) -> Result<f64> {
         check_len("ISD weights", num_coeffs(self.lmax()), lambda.len())?;
         let w = check_direction(w)?;

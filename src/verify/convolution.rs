@@ -4,7 +4,8 @@ use super::{random_kernel, random_psh, random_psh_matrix, Check};
 use crate::error::Result;
 use crate::polarized::{
     apply_angular, convolve_angular, kernel_coefficients, project_operator, project_to_convolution,
-    Codomain, ConvolutionKernel, KernelCoefficients, PshTransform, SpinBlock22,
+    rotation_average, Codomain, ConvolutionKernel, KernelCoefficients, PshMatrix, PshTransform,
+    SpinBlock22,
 };
 use crate::sh::zonal::zonal_coefficients;
 
@@ -58,7 +59,134 @@ pub fn checks() -> Vec<Check> {
             proof: Some("proofs/convolution.md"),
             run: projection_residual,
         },
+        Check {
+            id: "conv.kernel_frames",
+            source: "PSH (62)",
+            description: "a kernel with 16 distinct non-zero entries as a Mueller transform field: K(z_g, w(theta, phi)) read between the theta-phi frames F(0, phi) -> F(theta, phi) written out here, and K(R z_g, R w) read between R F(0, phi) -> R F(theta, phi) for random rotations R (PSH (58)), vs k(theta), 400 random (theta, phi) with theta in [0.02, pi - 0.02] (max |difference| relative to max |k|, times sin theta)",
+            // The great circle's normal w_i x w_o / sin theta carries eps / sin theta into
+            // the frames (hence the weight sin theta), the slope |k'| <= 2.5 the rounding
+            // of theta into k; two rotators on O(1) entries: measured 1.5e-15, tolerance
+            // 45 ulps.
+            tolerance: 1e-14,
+            proof: Some("proofs/convolution.md"),
+            run: kernel_frames,
+        },
+        Check {
+            id: "conv.rotation_average",
+            source: "PSH Fig. 17",
+            description: "the rotation average (Euler grid of resolution n = L + 1, exact for band L) of a polarized plastic's coefficient matrix (L = 3) vs its orthogonal projection onto the convolutions (the Haar average of an orthogonal representation is that projection), vs the Schur closed form delta_ll' delta_mm' tr(M^l_pq)/(2l + 1) of its spin-0 blocks, and its own distance to the convolutions (relative to the largest entry); the residual must fall from n = 1 to n = L + 1 (error 1 if not)",
+            // Sums of 2 n^3 = 128 rotated matrices, each O(lmax^5) rounded products;
+            // measured 9.3e-16, tolerance 45 ulps. (The residuals at n = 1, 2, 3, 4 are
+            // 0.74, 0.22, 0.046, 9.3e-16: Fig. 17(b)'s convergence, exact at n = L + 1.)
+            tolerance: 1e-14,
+            proof: Some("proofs/convolution.md"),
+            run: rotation_average_check,
+        },
     ]
+}
+
+/// The theta-phi frame at `(theta, phi)` written out (`proofs/stokes-frames.md` §10):
+/// `x` along increasing theta, `y` along increasing phi, `z` the direction; at
+/// `theta = 0` its limit along the meridian `phi`.
+fn theta_phi_frame(theta: f64, phi: f64) -> Result<crate::geometry::frame::Frame> {
+    let (st, ct) = theta.sin_cos();
+    let (sp, cp) = phi.sin_cos();
+    crate::geometry::frame::Frame::new(
+        [ct * cp, ct * sp, -st],
+        [-sp, cp, 0.0],
+        [st * cp, st * sp, ct],
+    )
+}
+
+/// A kernel whose 16 entries are distinct smooth functions of theta, with slopes
+/// `|k'| <= 2.5` (the slope carries the rounding of theta into the entries).
+fn test_kernel(t: f64) -> crate::polarized::KernelValue {
+    std::array::from_fn(|p| {
+        std::array::from_fn(|q| {
+            0.2 + 0.1 * p as f64 - 0.07 * q as f64
+                + (0.25 * (p + 2 * q + 1) as f64 * t + q as f64).cos()
+        })
+    })
+}
+
+/// PSH (62): `k(theta) = [K(z_g, w(theta, phi))]^{F(0, phi) -> F(theta, phi)}` for every
+/// `phi`, and the same between rotated frames for the rotated pair (PSH (58)).
+fn kernel_frames() -> Result<f64> {
+    use crate::stokes::MuellerField;
+    let kernel = ConvolutionKernel::from_fn(test_kernel);
+    let rot = |v: &nalgebra::Vector3<f64>, r: &nalgebra::Rotation3<f64>| {
+        let u = r * v;
+        [u.x, u.y, u.z]
+    };
+    let mut worst = 0.0f64;
+    for k in 0..400 {
+        let r = super::pseudo_random(5, 1300 + k);
+        // theta away from the poles, where the great circle is not unique.
+        let theta = 0.02 + (std::f64::consts::PI - 0.04) * 0.5 * (r[0] + 1.0);
+        let phi = std::f64::consts::PI * r[1];
+        let want = nalgebra::Matrix4::from_fn(|p, q| test_kernel(theta)[p][q]);
+        let (f0, f1) = (theta_phi_frame(0.0, phi)?, theta_phi_frame(theta, phi)?);
+        let got = kernel
+            .transform(f0.direction(), f1.direction())?
+            .matrix_in(&f0, &f1)?
+            .matrix();
+        // The kernel's frames come from the normal of the great circle, w_i x w_o / sin theta,
+        // whose rounding grows like eps / sin theta: the error is weighed by sin theta.
+        let weight = theta.sin() / want.amax();
+        worst = worst.max((got - want).amax() * weight);
+        let q = crate::sh::wigner::rotation_from_rotvec([3.0 * r[2], 3.0 * r[3], 3.0 * r[4]])?;
+        let (g0, g1) = (f0.rotated(&q)?, f1.rotated(&q)?);
+        let got = kernel
+            .transform(rot(&f0.z(), &q), rot(&f1.z(), &q))?
+            .matrix_in(&g0, &g1)?
+            .matrix();
+        worst = worst.max((got - want).amax() * weight);
+    }
+    Ok(worst)
+}
+
+/// PSH Fig. 17: the rotation average of a pBRDF's matrix is a convolution.
+fn rotation_average_check() -> Result<f64> {
+    use crate::sh::{lm_index, num_coeffs};
+    let lmax = 3;
+    let plastic = crate::optics::PolarizedPlastic::new(0.3, 1.5, 0.5)?;
+    let m = project_operator(&plastic, lmax, 6, SpinBlock22::ComplexPair)?;
+    let scale = max_abs(m.data());
+    let avg = rotation_average(&m, lmax + 1)?;
+    // The orthogonal projection onto the convolutions (16 real parameters per band).
+    let projected = project_to_convolution(&m)?.0.to_matrix()?;
+    let mut worst = max_diff(avg.data(), projected.data()) / scale;
+    // Schur: the spin-0 blocks of the average are tr(M^l_pq)/(2l + 1) times the identity.
+    let n = num_coeffs(lmax);
+    let schur = |jo: usize, ji: usize, po: usize, pi: usize| -> f64 {
+        if jo != ji {
+            return 0.0;
+        }
+        let l = crate::sh::lm_of_index(jo).0;
+        let tr: f64 = (-(l as i64)..=l as i64)
+            .map(|mm| m.get(lm_index(l, mm), lm_index(l, mm), po, pi))
+            .sum();
+        tr / (2 * l + 1) as f64
+    };
+    for jo in 0..n {
+        for ji in 0..n {
+            for po in [0, 3] {
+                for pi in [0, 3] {
+                    let d = (avg.get(jo, ji, po, pi) - schur(jo, ji, po, pi)).abs();
+                    worst = worst.max(d / scale);
+                }
+            }
+        }
+    }
+    // Fig. 17(b): the distance to the convolutions falls with the resolution.
+    let residual = |a: &PshMatrix| -> Result<f64> { Ok(project_to_convolution(a)?.1) };
+    let coarse = residual(&rotation_average(&m, 1)?)?;
+    let exact = residual(&avg)?;
+    worst = worst.max(exact);
+    if coarse <= exact {
+        worst = worst.max(1.0);
+    }
+    Ok(worst)
 }
 
 fn max_abs(x: &[f64]) -> f64 {

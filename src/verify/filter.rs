@@ -3,8 +3,8 @@
 use super::{pseudo_random, Check};
 use crate::error::Result;
 use crate::optics::filter::{
-    filter_angle, ior_from_r0, mueller_filtered_reflection, omega, omega_ior, psi, psi_dielectric,
-    Incidence,
+    beta_approx, filter_angle, gamma_approx, ior_from_r0, mueller_filtered_reflection, omega,
+    omega_ior, psi, psi_dielectric, Incidence,
 };
 use crate::optics::filter_table::{psi_curves, SpecularSource};
 use crate::optics::{
@@ -73,7 +73,76 @@ pub fn checks() -> Vec<Check> {
             proof: None,
             run: malus,
         },
+        Check {
+            id: "filter.beta_approx",
+            source: "PF (15)",
+            description: "beta~(R_0) = 0.1/(1.095 - R_0)^3 + 5.4 R_0^2 + 1 at every conductor R_0 printed in Table 1 and at 0, 0.04, 0.2, 0.5, 0.99, vs the printed formula in exact rational arithmetic (decimal constants, the f64 input exactly; correctly rounded; largest relative difference)",
+            // Rounding the constant 1.095 and the difference 1.095 - R_0 is amplified by
+            // 3 (1.095/(1.095 - R_0) + 1)/2, at most 17 at R_0 = 0.99: about 20 eps =
+            // 2.2e-15 in the worst case; measured 9.2e-16, tolerance 45 ulps.
+            tolerance: 1e-14,
+            proof: PROOF,
+            run: || approx_oracle(0),
+        },
+        Check {
+            id: "filter.gamma_approx",
+            source: "PF (16)",
+            description: "gamma~(R_0) = 0.16 R_0^2/(1.18 - R_0)^2 + 0.35 (1.18 - R_0) at every conductor R_0 printed in Table 1 and at 0, 0.04, 0.2, 0.5, 0.99, vs the printed formula in exact rational arithmetic (decimal constants, the f64 input exactly; correctly rounded; largest relative difference)",
+            // Rounding of 1.18 - R_0 amplified by 2 (1.18/(1.18 - R_0) + 1)/2 <= 7.2 at
+            // R_0 = 0.99, plus a few operations: about 10 eps; measured 6.3e-16,
+            // tolerance 45 ulps.
+            tolerance: 1e-14,
+            proof: PROOF,
+            run: || approx_oracle(1),
+        },
     ]
+}
+
+/// `(R_0, beta~(R_0), gamma~(R_0))` of PF (15), (16) evaluated exactly: `R_0` the exact
+/// value of the f64 literal, the printed decimal constants, rational arithmetic (Python
+/// `fractions`), correctly rounded to f64 (`proofs/polarizing-filter.md` §7).
+const APPROX_ORACLE: [(f64, f64, f64); 26] = [
+    (0.0, 1.0761653851364583, 0.413),
+    (0.04, 1.0938013664183823, 0.3991969836872884),
+    (0.2, 1.3554860879191273, 0.3496638900458142),
+    (0.37, 2.001673383082537, 0.3168851547020271),
+    (0.43, 2.338503959182823, 0.31509377777777775),
+    (0.5, 2.8247326513403186, 0.32450519031141867),
+    (0.51, 2.904036445146237, 0.327206616172867),
+    (0.53, 3.0713001298221565, 0.33387633136094674),
+    (0.54, 3.1595931050407606, 0.33790625),
+    (0.58, 3.5486733274825273, 0.35951111111111106),
+    (0.59, 3.6562121183421152, 0.3665),
+    (0.62, 4.008840623997667, 0.3921224489795918),
+    (0.63, 4.137843250969408, 0.4024305785123967),
+    (0.64, 4.27345197816795, 0.4137462277091907),
+    (0.68, 4.896082400474303, 0.4709360000000001),
+    (0.72, 5.6956562962962956, 0.552984877126654),
+    (0.78, 7.484758513079542, 0.7484000000000001),
+    (0.79, 7.894664079107945, 0.7930154503616044),
+    (0.89, 16.88483263649686, 1.6084678953626637),
+    (0.91, 21.265473836100536, 1.9120034293552817),
+    (0.92, 24.229452128279895, 2.0943136094674566),
+    (0.93, 27.931639285972693, 2.301644000000001),
+    (0.94, 32.62518777617398, 2.538444444444443),
+    (0.95, 38.67517288531712, 2.8101786389413976),
+    (0.96, 46.620850740232655, 3.123611570247933),
+    (0.99, 92.67629985314758, 4.41043351800554),
+];
+
+/// PF (15) (`which = 0`, `beta~`) or PF (16) (`which = 1`, `gamma~`): the largest relative
+/// difference from the exact values.
+fn approx_oracle(which: usize) -> Result<f64> {
+    let mut worst = 0.0f64;
+    for (r0, beta, gamma) in APPROX_ORACLE {
+        let (got, want) = if which == 0 {
+            (beta_approx(r0)?, beta)
+        } else {
+            (gamma_approx(r0)?, gamma)
+        };
+        worst = worst.max((got - want).abs() / want);
+    }
+    Ok(worst)
 }
 
 /// The incidence angles 0, 0.5, ..., 89.5 degrees.

@@ -50,7 +50,166 @@ pub fn checks() -> Vec<Check> {
             proof: None,
             run: adaptive_error_falls,
         },
+        Check {
+            id: "lights.taylor_remainder",
+            source: "SHH (21)",
+            description: "first-order interpolation error L(x + dx) - L(x) - grad L . dx of the summed coefficients of 4 lights (l <= 8, 4 shading points, 24 random directions each, |dx| = 1e-4) vs dx^T H dx / 2 with the Hessians H (largest difference relative to the largest |dx^T H dx|/2 of the point and direction); at |dx| = 1e-3 the figure must be about 10 times larger (the remainder is third order; error 1 if not)",
+            // The neglected cubic term relative to the quadratic one is |dx| |T|/(3 |H|),
+            // about |dx| (l + 3)/(3 d) with d >= 0.69 the distance from the points to the
+            // nearest light's surface: 5e-4 at |dx| = 1e-4; the cancellation in
+            // L(x + dx) - L(x) adds eps |L| / |dx^2 H / 2| ~ 1e-8. Measured 2.9e-4
+            // (2.9e-3 at |dx| = 1e-3); tolerance twice the estimate.
+            tolerance: 1e-3,
+            proof: Some("proofs/spherical-lights.md"),
+            run: taylor_remainder,
+        },
+        Check {
+            id: "lights.error_metric",
+            source: "SHH (22)",
+            description: "E_abs, E_rel of PointError (4 lights, l <= 8, 4 shading points, dx = 0.01, 0.1) vs |lambda| |dx|^2/2 and its ratio to |L| with lambda_l^m the largest |eigenvalue| of H_l^m by the trigonometric closed form of the 3 x 3 symmetric eigenproblem (relative); the first-order interpolation error |L(x + dx) - L(x) - grad L . dx| (L2 over l, m; 24 random directions, |dx| = 1e-3) must stay below E_abs (1 + 1e-2) (error 1 if not)",
+            // A norm of 81 eigenvalues: closed form (acos of a determinant) vs nalgebra's
+            // iteration, both to a few eps of |H| per eigenvalue; measured 3.9e-16,
+            // tolerance 45 ulps.
+            tolerance: 1e-14,
+            proof: Some("proofs/spherical-lights.md"),
+            run: error_metric,
+        },
     ]
+}
+
+/// The shading points of the Taylor checks.
+const TAYLOR_POINTS: [[f64; 3]; 4] = [
+    [0.0, 0.0, 0.0],
+    [0.5, 0.0, -0.5],
+    [-0.5, 0.0, 0.5],
+    [1.0, 2.0, -0.2],
+];
+
+/// `(L(x + h u) - L(x) - h grad L . u, h^2 u^T H u / 2)` for every coefficient.
+fn remainders(
+    lights: &SphericalLights,
+    x: [f64; 3],
+    u: [f64; 3],
+    h: f64,
+) -> Result<Vec<(f64, f64)>> {
+    let f0 = field_at(lights, x)?;
+    let f1 = lights.field(std::array::from_fn(|i| x[i] + h * u[i]), Order::Values)?;
+    Ok((0..f0.coefficients.len())
+        .map(|k| {
+            let g = f0.gradients[k];
+            let hk = f0.hessians[k];
+            let lin = g[0] * u[0] + g[1] * u[1] + g[2] * u[2];
+            let mut quad = 0.0;
+            for i in 0..3 {
+                for j in 0..3 {
+                    quad += u[i] * hk[hessian_index(i, j)] * u[j];
+                }
+            }
+            (
+                f1.coefficients[k] - f0.coefficients[k] - h * lin,
+                0.5 * h * h * quad,
+            )
+        })
+        .collect())
+}
+
+fn taylor_lights() -> Result<SphericalLights> {
+    SphericalLights::new(test_lights()?[..4].to_vec(), 8)
+}
+
+/// `max_k |res_k - q_k| / max_k |q_k|`, the worst over points and directions, at step `h`.
+fn taylor_discrepancy(lights: &SphericalLights, h: f64) -> Result<f64> {
+    let mut worst = 0.0f64;
+    for (p, x) in TAYLOR_POINTS.into_iter().enumerate() {
+        for u in super::random_directions(24, 1400 + p as u64) {
+            let rq = remainders(lights, x, u, h)?;
+            let scale = rq.iter().fold(0.0f64, |a, (_, q)| a.max(q.abs()));
+            let diff = rq.iter().fold(0.0f64, |a, (r, q)| a.max((r - q).abs()));
+            worst = worst.max(diff / scale);
+        }
+    }
+    Ok(worst)
+}
+
+/// SHH (21): the remainder of the first-order expansion is `dx^T H dx / 2` to third order.
+fn taylor_remainder() -> Result<f64> {
+    let lights = taylor_lights()?;
+    let fine = taylor_discrepancy(&lights, 1e-4)?;
+    let coarse = taylor_discrepancy(&lights, 1e-3)?;
+    // Third order: the relative discrepancy falls like |dx| (ratio 10; 5 allows for the
+    // fourth-order term and rounding).
+    if coarse < 5.0 * fine {
+        return Ok(fine.max(1.0));
+    }
+    Ok(fine)
+}
+
+/// The eigenvalues of the symmetric 3 x 3 matrix `[xx, xy, xz, yy, yz, zz]` by the
+/// trigonometric closed form (Smith 1961, "Eigenvalues of a symmetric 3 x 3 matrix").
+fn symmetric_eigenvalues(h: &[f64; 6]) -> [f64; 3] {
+    let [a00, a01, a02, a11, a12, a22] = *h;
+    let p1 = a01 * a01 + a02 * a02 + a12 * a12;
+    if p1 == 0.0 {
+        return [a00, a11, a22];
+    }
+    let q = (a00 + a11 + a22) / 3.0;
+    let (b00, b11, b22) = (a00 - q, a11 - q, a22 - q);
+    let p2 = b00 * b00 + b11 * b11 + b22 * b22 + 2.0 * p1;
+    let p = (p2 / 6.0).sqrt();
+    // det(B) / 2 with B = (A - q I) / p.
+    let det = b00 * (b11 * b22 - a12 * a12) - a01 * (a01 * b22 - a12 * a02)
+        + a02 * (a01 * a12 - b11 * a02);
+    let r = (det / (p * p * p) / 2.0).clamp(-1.0, 1.0);
+    let phi = r.acos() / 3.0;
+    let e1 = q + 2.0 * p * phi.cos();
+    let e3 = q + 2.0 * p * (phi + 2.0 * PI / 3.0).cos();
+    [e1, 3.0 * q - e1 - e3, e3]
+}
+
+/// SHH (22): `E_abs = |lambda| |dx|^2 / 2`, `E_rel = E_abs / |L|`, and `E_abs` bounds the
+/// first-order interpolation error.
+fn error_metric() -> Result<f64> {
+    use crate::lights::grid::{Metric, PointError};
+    let lights = taylor_lights()?;
+    let mut worst = 0.0f64;
+    for (p, x) in TAYLOR_POINTS.into_iter().enumerate() {
+        let field = field_at(&lights, x)?;
+        let point = PointError::of(&field);
+        let lambda2: f64 = field
+            .hessians
+            .iter()
+            .map(|h| {
+                symmetric_eigenvalues(h)
+                    .iter()
+                    .fold(0.0f64, |a, e| a.max(e.abs()))
+                    .powi(2)
+            })
+            .sum();
+        let norm_l = field.coefficients.iter().map(|c| c * c).sum::<f64>().sqrt();
+        for dx in [0.01, 0.1] {
+            let e_abs = lambda2.sqrt() * dx * dx / 2.0;
+            let got_abs = point.error(Metric::Absolute, dx);
+            let got_rel = point.error(Metric::Relative, dx);
+            worst = worst
+                .max((got_abs - e_abs).abs() / e_abs)
+                .max((got_rel - e_abs / norm_l).abs() / (e_abs / norm_l));
+        }
+        // The bound: |u^T H u| <= max |eigenvalue| for unit u, so each first-order error is
+        // at most e_l^m to third order, and their L2 norm at most E_abs.
+        let h = 1e-3;
+        let e_abs = point.error(Metric::Absolute, h);
+        for u in super::random_directions(24, 1500 + p as u64) {
+            let res: f64 = remainders(&lights, x, u, h)?
+                .iter()
+                .map(|(r, _)| r * r)
+                .sum::<f64>()
+                .sqrt();
+            if res > e_abs * (1.0 + 1e-2) {
+                return Ok(1.0);
+            }
+        }
+    }
+    Ok(worst)
 }
 
 fn adaptive_error_falls() -> Result<f64> {
