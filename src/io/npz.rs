@@ -231,7 +231,7 @@ pub fn write_isotropic_npz(path: impl AsRef<Path>, m: &IsotropicMatrix) -> Resul
 
 /// Writes scalar strings `texts` and the `float64` array `coeff` of `shape` (numpy
 /// `<U*` and `<f8`, as polarsh writes them).
-fn write_archive(
+pub(crate) fn write_archive(
     path: &Path,
     texts: &[(&str, &str)],
     shape: &[u64],

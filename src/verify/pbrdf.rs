@@ -35,7 +35,7 @@ pub fn checks() -> Vec<Check> {
         Check {
             id: "pbrdf.isobi2_layout",
             source: "PSH (52); polarsh ISOBI2",
-            description: "a dense isotropic matrix with distinct entries (L = 8, 2 channels) stored by the closed-form ISOBI2 index of polarsh's definition, read as IsotropicMatrix blocks: every entry back at its (l_o, m_o, p_o, l_i, m_i, p_i) (max |difference|)",
+            description: "a dense isotropic matrix with distinct entries (L = 8, 2 channels) written to an ISOBI2 .npz by the closed-form index of polarsh's definition, read with read_isotropic_npz: every entry back at its (l_o, m_o, p_o, l_i, m_i, p_i) (max |difference|)",
             tolerance: 0.0,
             proof: None,
             run: isobi2_layout,
@@ -138,7 +138,17 @@ fn isobi2_layout() -> Result<f64> {
             }
         }
     }
-    let m = IsotropicMatrix::from_blocks(lmax, channels, &data)?;
+    let path = std::env::temp_dir().join(format!("psh-verify-isobi2-{}.npz", std::process::id()));
+    let texts = [
+        ("dom_type", "ISOBI2"),
+        ("cod_type", "POLAR4"),
+        ("sh_type", "REAL"),
+    ];
+    let shape = [channels as u64, k as u64, 4, 4];
+    let m = crate::io::npz::write_archive(&path, &texts, &shape, data)
+        .and_then(|()| read_isotropic_npz(&path));
+    let _ = std::fs::remove_file(&path);
+    let m = m?;
     let n = num_coeffs(lmax);
     let mut worst = 0.0f64;
     for c in 0..channels {
