@@ -6,6 +6,11 @@
 // iterator chains would obscure the equations they implement.
 #![allow(clippy::needless_range_loop)]
 
+/// The Rust examples of `README.md`, run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;
+
 pub mod error;
 pub use error::{Error, Result};
 #[cfg(feature = "exact")]

@@ -473,7 +473,7 @@ impl FrameField for PerspectiveFrameField {
     }
 }
 
-/// The frame field of the shared cube-map environment maps (DESIGN.md, `image_grid`):
+/// The frame field of the shared cube-map environment maps (`docs/conventions.md`, `image_grid`):
 /// each face is a 90-degree perspective camera with camera frame `[r, -u, f]` (image-right
 /// `r`, image-down `-u`, forward `f` from [`CubeFace::basis`]), and the frame at a
 /// direction of that face is the [`PerspectiveFrameField`] frame of that camera:

@@ -1,7 +1,7 @@
 //! Pixel grids on the sphere: the direction and exact solid angle of every texel of an
 //! equirectangular image or of a cube map stored as a 3 x 4 cross.
 //!
-//! Cube cross (DESIGN.md, `docs/conventions.md`): an image of `3e` rows by `4e` columns;
+//! Cube cross (`docs/conventions.md` §12): an image of `3e` rows by `4e` columns;
 //! Up at row-block 0 column-block 1; Left, Front, Right, Back at row-block 1, columns 0..3;
 //! Down at row-block 2 column-block 1; world `x, y, z` = Right, Front, Up. Each face is a
 //! 90-degree perspective camera with image-right `r`, image-up `u` and forward `f`:

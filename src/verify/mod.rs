@@ -3,7 +3,7 @@
 //! Each check computes a maximum error against an independent reference (an exact
 //! identity, a high-precision oracle, or the angular-domain equivalent on an exact
 //! quadrature grid) and compares it with a stated tolerance. The JSON form is the
-//! contract of DESIGN.md: `{"id", "source", "description", "max_error", "tolerance",
+//! contract of `psh verify --json` (README): `{"id", "source", "description", "max_error", "tolerance",
 //! "passed"}` (plus `"proof"`, the derivation's page in `proofs/`, when there is one).
 
 mod convolution;
