@@ -1,0 +1,59 @@
+//! Which Stokes components a PSH field or coefficient vector carries (polarsh's
+//! `cod_type`).
+
+use crate::error::{Error, Result};
+
+/// Which Stokes components a field or coefficient vector carries (polarsh `cod_type`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Codomain {
+    /// Intensity only, `{s0}`: scalar SH (`SCALAR`).
+    Intensity,
+    /// Linear polarization only, `{s1, s2}` (`POLAR2`).
+    Linear,
+    /// `{s0, s1, s2}` (`POLAR3`).
+    NoCircular,
+    /// The full Stokes vector `{s0, s1, s2, s3}` (`POLAR4`).
+    Full,
+}
+
+impl Codomain {
+    /// The Stokes components present, in storage order.
+    pub fn components(self) -> &'static [usize] {
+        match self {
+            Codomain::Intensity => &[0],
+            Codomain::Linear => &[1, 2],
+            Codomain::NoCircular => &[0, 1, 2],
+            Codomain::Full => &[0, 1, 2, 3],
+        }
+    }
+
+    /// Whether the linear (spin-2) components `s1, s2` are present.
+    pub fn has_spin2(self) -> bool {
+        self != Codomain::Intensity
+    }
+
+    /// The polarsh name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Codomain::Intensity => "SCALAR",
+            Codomain::Linear => "POLAR2",
+            Codomain::NoCircular => "POLAR3",
+            Codomain::Full => "POLAR4",
+        }
+    }
+
+    /// From a polarsh name.
+    pub fn from_name(name: &str) -> Result<Self> {
+        match name {
+            "SCALAR" => Ok(Codomain::Intensity),
+            "POLAR2" => Ok(Codomain::Linear),
+            "POLAR3" => Ok(Codomain::NoCircular),
+            "POLAR4" => Ok(Codomain::Full),
+            _ => Err(Error::InvalidArgument {
+                name: "codomain",
+                value: name.into(),
+                reason: "expected SCALAR, POLAR2, POLAR3 or POLAR4".into(),
+            }),
+        }
+    }
+}

@@ -1,0 +1,428 @@
+//! PSH coefficient vectors PSH (34): real coefficients `f_lmp` in the layout
+//! `[channel][l*l + l + m][p]` of polarsh's `.npz`, with their codomain and the meaning
+//! of their argument ([`FieldArgument`]).
+
+use super::{Codomain, FieldArgument, PshEvaluator};
+use crate::error::{check_len, finite_all, Error, Result};
+use crate::sh::{lm_index, num_coeffs};
+use crate::stokes::StokesVector;
+use num_complex::Complex64;
+
+/// A PSH coefficient vector PSH (34): real coefficients `f_lmp` for `l <= lmax`, the
+/// components of `codomain`, and `channels` colour channels, of a field whose argument
+/// means what [`FieldArgument`] says.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PshVector {
+    lmax: usize,
+    codomain: Codomain,
+    channels: usize,
+    argument: FieldArgument,
+    /// `[channel][l*l + l + m][p]`.
+    data: Vec<f64>,
+}
+
+impl PshVector {
+    /// All-zero coefficients of a field indexed by the direction towards the source
+    /// (psh's convention; [`Self::labelled`] declares another).
+    pub fn zeros(lmax: usize, codomain: Codomain, channels: usize) -> Result<Self> {
+        crate::sh::check_lmax(lmax)?;
+        if channels == 0 {
+            return Err(Error::InvalidArgument {
+                name: "channels",
+                value: "0".into(),
+                reason: "at least one channel".into(),
+            });
+        }
+        let n = channels * num_coeffs(lmax) * codomain.components().len();
+        Ok(Self {
+            lmax,
+            codomain,
+            channels,
+            argument: FieldArgument::TowardsSource,
+            data: vec![0.0; n],
+        })
+    }
+
+    /// From data in the layout `[channel][l*l + l + m][p]` of a field indexed by the
+    /// direction towards the source ([`Self::labelled`] declares another); coefficients
+    /// outside the index set PSH (31) must be zero, and every value finite.
+    pub fn from_data(
+        lmax: usize,
+        codomain: Codomain,
+        channels: usize,
+        data: Vec<f64>,
+    ) -> Result<Self> {
+        let mut v = Self::zeros(lmax, codomain, channels)?;
+        check_len("PSH coefficients", v.data.len(), data.len())?;
+        finite_all("PSH coefficient", &data)?;
+        v.data = data;
+        for c in 0..channels {
+            for i in 0..4.min(num_coeffs(lmax)) {
+                for (k, &p) in codomain.components().iter().enumerate() {
+                    let x = v.data[v.offset(c, i) + k];
+                    if (p == 1 || p == 2) && x != 0.0 {
+                        return Err(Error::InvalidArgument {
+                            name: "PSH coefficient",
+                            value: format!("f[{c}][{i}][{p}] = {x}"),
+                            reason: "spin-2 coefficients start at l = 2 (PSH (31))".into(),
+                        });
+                    }
+                }
+            }
+        }
+        Ok(v)
+    }
+
+    /// A one-channel scalar field (e.g. a visibility) from its real SH coefficients
+    /// `l*l + l + m`, `l <= lmax`, indexed by the direction towards the source
+    /// ([`Self::labelled`] declares another). Errors: as [`Self::from_data`].
+    pub fn scalar(lmax: usize, coefficients: Vec<f64>) -> Result<Self> {
+        Self::from_data(lmax, Codomain::Intensity, 1, coefficients)
+    }
+
+    /// The band limit.
+    pub fn lmax(&self) -> usize {
+        self.lmax
+    }
+
+    /// The codomain.
+    pub fn codomain(&self) -> Codomain {
+        self.codomain
+    }
+
+    /// Number of channels.
+    pub fn channels(&self) -> usize {
+        self.channels
+    }
+
+    /// What the field's argument means.
+    pub fn argument(&self) -> FieldArgument {
+        self.argument
+    }
+
+    /// The same coefficients declared to index a field by `argument`, without changing
+    /// them: for coefficients made outside psh's readers and projections. To express the
+    /// same field in the other convention use [`Self::converted`].
+    pub fn labelled(mut self, argument: FieldArgument) -> PshVector {
+        self.argument = argument;
+        self
+    }
+
+    /// The same light field indexed by `argument`: itself when it already is; otherwise
+    /// the map between the direction `w` towards the source and the direction of travel
+    /// `v = -w`, both in the theta-phi frames at their argument (`docs/conventions.md`):
+    /// `f'_lm0 = (-1)^l f_lm0`, `f'_lm3 = -(-1)^l f_lm3`, `a'_lm = (-1)^{l+m} conj(a_{l,-m})`
+    /// for `a = f_lm1 + i f_lm2` (derived in `proofs/travel-convention.md`; an involution).
+    pub fn converted(&self, argument: FieldArgument) -> PshVector {
+        if argument == self.argument {
+            self.clone()
+        } else {
+            let mut out = self.reversed_directions();
+            out.argument = argument;
+            out
+        }
+    }
+
+    /// The data, `[channel][l*l + l + m][p]`.
+    pub fn data(&self) -> &[f64] {
+        &self.data
+    }
+
+    /// The same coefficients with another codomain: components it lacks are zero,
+    /// components this vector lacks are dropped.
+    pub fn with_codomain(&self, codomain: Codomain) -> PshVector {
+        let (from, to) = (self.codomain.components(), codomain.components());
+        let n = num_coeffs(self.lmax);
+        let mut data = vec![0.0; self.channels * n * to.len()];
+        for (o, x) in data
+            .chunks_exact_mut(to.len())
+            .zip(self.data.chunks_exact(from.len()))
+        {
+            for (k, p) in to.iter().enumerate() {
+                if let Some(i) = from.iter().position(|q| q == p) {
+                    o[k] = x[i];
+                }
+            }
+        }
+        PshVector {
+            lmax: self.lmax,
+            codomain,
+            channels: self.channels,
+            argument: self.argument,
+            data,
+        }
+    }
+
+    /// Channel `c` alone, as a one-channel vector. Error: `c` out of range.
+    pub fn channel(&self, c: usize) -> Result<PshVector> {
+        self.check_index(c, 0, 0)?;
+        let len = num_coeffs(self.lmax) * self.codomain.components().len();
+        let data = self.data[self.offset(c, 0)..][..len].to_vec();
+        Ok(PshVector::from_data(self.lmax, self.codomain, 1, data)?.labelled(self.argument))
+    }
+
+    /// The channels of `parts` side by side (each may hold several). Errors: no parts, or
+    /// parts of different band limits, codomains or arguments, naming the first that
+    /// differs.
+    pub fn from_channels(parts: &[PshVector]) -> Result<PshVector> {
+        let first = parts.first().ok_or_else(|| Error::InvalidArgument {
+            name: "PSH vectors",
+            value: "[]".into(),
+            reason: "at least one vector to stack".into(),
+        })?;
+        if let Some((k, v)) = parts.iter().enumerate().find(|(_, v)| {
+            v.lmax != first.lmax || v.codomain != first.codomain || v.argument != first.argument
+        }) {
+            return Err(Error::InvalidArgument {
+                name: "PSH vector",
+                value: format!(
+                    "#{k}: lmax {}, {}, {}",
+                    v.lmax,
+                    v.codomain.name(),
+                    v.argument
+                ),
+                reason: format!(
+                    "the first has lmax {}, {}, {}",
+                    first.lmax,
+                    first.codomain.name(),
+                    first.argument
+                ),
+            });
+        }
+        let data = parts.iter().flat_map(|v| v.data.iter().copied()).collect();
+        let channels = parts.iter().map(|v| v.channels).sum();
+        Ok(
+            PshVector::from_data(first.lmax, first.codomain, channels, data)?
+                .labelled(first.argument),
+        )
+    }
+
+    /// The coefficients of degrees `l <= lmax` (band-limiting). Error: `lmax` above this
+    /// vector's.
+    pub fn truncated(&self, lmax: usize) -> Result<PshVector> {
+        if lmax > self.lmax {
+            return Err(Error::InvalidArgument {
+                name: "lmax",
+                value: lmax.to_string(),
+                reason: format!("the vector has lmax {}", self.lmax),
+            });
+        }
+        let len = num_coeffs(lmax) * self.codomain.components().len();
+        let data = (0..self.channels)
+            .flat_map(|c| self.data[self.offset(c, 0)..][..len].iter().copied())
+            .collect();
+        Ok(PshVector::from_data(lmax, self.codomain, self.channels, data)?.labelled(self.argument))
+    }
+
+    /// The same coefficients with every degree `l <= l_low` zeroed (a high pass).
+    pub fn without_bands_through(&self, l_low: usize) -> PshVector {
+        let mut out = self.clone();
+        let len = num_coeffs(l_low.min(self.lmax)) * self.codomain.components().len();
+        for c in 0..self.channels {
+            let o = self.offset(c, 0);
+            out.data[o..o + len].fill(0.0);
+        }
+        out
+    }
+
+    /// The energy of each degree, `E_l = sum_{c, m, p} f_lmp^2` (`l <= lmax`): by
+    /// Parseval, the squared L2 norm over the sphere of the band `l` of the field.
+    pub fn band_energies(&self) -> Vec<f64> {
+        let np = self.codomain.components().len();
+        let mut e = vec![0.0; self.lmax + 1];
+        for x in self.data.chunks_exact(num_coeffs(self.lmax) * np) {
+            for (j, f) in x.chunks_exact(np).enumerate() {
+                e[crate::sh::lm_of_index(j).0] += f.iter().map(|v| v * v).sum::<f64>();
+            }
+        }
+        e
+    }
+
+    pub(super) fn offset(&self, channel: usize, lm: usize) -> usize {
+        (channel * num_coeffs(self.lmax) + lm) * self.codomain.components().len()
+    }
+
+    /// `f_lmp` (0 outside the codomain or the index set), or an error for an index out of
+    /// range.
+    pub fn get(&self, channel: usize, l: usize, m: i64, p: usize) -> Result<f64> {
+        self.check_index(channel, l, m)?;
+        Ok(
+            match self.codomain.components().iter().position(|&q| q == p) {
+                Some(k) => self.data[self.offset(channel, lm_index(l, m)) + k],
+                None => 0.0,
+            },
+        )
+    }
+
+    fn check_index(&self, channel: usize, l: usize, m: i64) -> Result<()> {
+        crate::sh::check_lm(l as i64, m)?;
+        if l > self.lmax || channel >= self.channels {
+            return Err(Error::InvalidArgument {
+                name: "PSH index",
+                value: format!("channel {channel}, l {l}"),
+                reason: format!("{} channels, lmax {}", self.channels, self.lmax),
+            });
+        }
+        Ok(())
+    }
+
+    /// The Stokes vector of channel `c` at the unit direction `w` by PSH (30), in the
+    /// theta-phi frame there (tables built per call; loops use a [`PshEvaluator`]); `w`
+    /// means what [`Self::argument`] says.
+    pub fn evaluate(&self, c: usize, w: [f64; 3]) -> Result<StokesVector> {
+        if c >= self.channels {
+            return Err(Error::InvalidArgument {
+                name: "channel",
+                value: c.to_string(),
+                reason: format!("{} channels", self.channels),
+            });
+        }
+        Ok(self.evaluate_all(w)?.swap_remove(c))
+    }
+
+    /// The Stokes vectors of every channel at `w` ([`Self::evaluate`], the basis evaluated
+    /// once; a [`PshEvaluator`] keeps its tables across calls).
+    pub fn evaluate_all(&self, w: [f64; 3]) -> Result<Vec<StokesVector>> {
+        PshEvaluator::new(self.lmax)?.evaluate_all(self, w)
+    }
+
+    /// The coefficients of `F'(v) = (s0, s1, -s2, -s3)` of `F(-v)` in the theta-phi frames,
+    /// with the argument label unchanged ([`Self::converted`] sets it).
+    fn reversed_directions(&self) -> PshVector {
+        let mut out = self.clone();
+        let comps = self.codomain.components();
+        for c in 0..self.channels {
+            for (k, &p) in comps.iter().enumerate() {
+                if p == 0 || p == 3 {
+                    let f = self.component(c, k);
+                    let sign3 = if p == 3 { -1.0 } else { 1.0 };
+                    let g: Vec<f64> = (0..f.len())
+                        .map(|i| {
+                            let (l, _) = crate::sh::lm_of_index(i);
+                            sign3 * parity(l as i64) * f[i]
+                        })
+                        .collect();
+                    out.set_component(c, k, &g);
+                }
+            }
+            if !self.codomain.has_spin2() {
+                continue;
+            }
+            let a = self.spin2(c);
+            let b: Vec<Complex64> = (0..a.len())
+                .map(|i| {
+                    let (l, m) = crate::sh::lm_of_index(i);
+                    parity(l as i64 + m) * a[lm_index(l, -m)].conj()
+                })
+                .collect();
+            out.set_spin2(c, &b);
+        }
+        out
+    }
+
+    /// Component `p` of channel `c` as a flat SH vector (`l*l + l + m`).
+    pub(super) fn component(&self, c: usize, k: usize) -> Vec<f64> {
+        (0..num_coeffs(self.lmax))
+            .map(|i| self.data[self.offset(c, i) + k])
+            .collect()
+    }
+
+    pub(super) fn set_component(&mut self, c: usize, k: usize, v: &[f64]) {
+        for (i, &x) in v.iter().enumerate() {
+            let o = self.offset(c, i) + k;
+            self.data[o] = x;
+        }
+    }
+
+    /// The spin-2 coefficients `f_lm1 + i f_lm2` of channel `c` (flat order; zero for `l < 2`
+    /// and for a codomain without them).
+    pub(super) fn spin2(&self, c: usize) -> Vec<Complex64> {
+        if !self.codomain.has_spin2() {
+            return vec![Complex64::default(); num_coeffs(self.lmax)];
+        }
+        let comps = self.codomain.components();
+        let k1 = comps
+            .iter()
+            .position(|&p| p == 1)
+            .expect("checked: the codomain has s1");
+        let (re, im) = (self.component(c, k1), self.component(c, k1 + 1));
+        re.iter()
+            .zip(&im)
+            .map(|(&a, &b)| Complex64::new(a, b))
+            .collect()
+    }
+
+    /// Sets the spin-2 coefficients of channel `c` (a codomain without them drops `z`).
+    pub(super) fn set_spin2(&mut self, c: usize, z: &[Complex64]) {
+        if !self.codomain.has_spin2() {
+            return;
+        }
+        let comps = self.codomain.components();
+        let k1 = comps
+            .iter()
+            .position(|&p| p == 1)
+            .expect("checked: the codomain has s1");
+        let re: Vec<f64> = z.iter().map(|v| v.re).collect();
+        let im: Vec<f64> = z.iter().map(|v| v.im).collect();
+        self.set_component(c, k1, &re);
+        self.set_component(c, k1 + 1, &im);
+    }
+}
+
+/// `(-1)^n`.
+fn parity(n: i64) -> f64 {
+    if n % 2 == 0 {
+        1.0
+    } else {
+        -1.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn index_set_and_bad_input() {
+        let mut data = vec![0.0; num_coeffs(3) * 4];
+        // (l, m) = (1, -1) is flat index 1; its s1 slot (p = 1) is outside PSH (31).
+        data[4 + 1] = 1.0;
+        assert!(PshVector::from_data(3, Codomain::Full, 1, data.clone()).is_err());
+        data[4 + 1] = 0.0;
+        data[0] = f64::NAN;
+        assert!(PshVector::from_data(3, Codomain::Full, 1, data).is_err());
+        assert!(PshVector::zeros(3, Codomain::Linear, 0).is_err());
+        assert!(Codomain::from_name("POLAR5").is_err());
+        assert_eq!(Codomain::from_name("POLAR3").unwrap(), Codomain::NoCircular);
+        let v = PshVector::zeros(3, Codomain::Linear, 2).unwrap();
+        assert_eq!(v.get(1, 3, -3, 0).unwrap(), 0.0);
+        assert!(v.get(2, 1, 0, 1).is_err());
+        assert!(v.get(0, 1, 2, 1).is_err());
+    }
+
+    /// The travel convention against its definition: at `u`, in the theta-phi frame
+    /// there, the field is the original one at `w = -u` read in `[e_theta, -e_phi, -w]`
+    /// of the theta-phi frame at `w`, i.e. `(s0, s1, -s2, -s3)`; and it is an involution.
+    #[test]
+    fn travel_convention_reverses_directions() {
+        let v = crate::verify::random_psh(6, Codomain::Full, 2, 3).unwrap();
+        let t = v.converted(FieldArgument::Travel);
+        assert_eq!(t.argument(), FieldArgument::Travel);
+        assert_eq!(t.converted(FieldArgument::Travel), t);
+        let back = t.converted(FieldArgument::TowardsSource);
+        assert_eq!(back, v);
+        for (i, u) in [[0.0, 0.0, 1.0], [0.6, 0.0, -0.8], [0.48, -0.6, 0.64]]
+            .into_iter()
+            .enumerate()
+        {
+            let c = i % 2;
+            let got = t.evaluate(c, u).unwrap().components().to_array();
+            let w = u.map(|x| -x);
+            let s = v.evaluate(c, w).unwrap().components().to_array();
+            let want = [s[0], s[1], -s[2], -s[3]];
+            for p in 0..4 {
+                assert!((got[p] - want[p]).abs() < 1e-13, "{u:?} s{p}");
+            }
+        }
+    }
+}
