@@ -30,6 +30,16 @@ def isobi2_index(li, lo, mi, mo):
             + (4 * k + 1 if li > lo else 0) + 2 * (k + mi) + int(np.sign(mo - mi)))
 
 
+def isobi2_entries(lmax):
+    """Every stored entry (l_i, l_o, m_i, m_o) of the layout for l <= lmax."""
+    for lo in range(lmax + 1):
+        for li in range(lmax + 1):
+            kk = min(lo, li)
+            for mi in range(-kk, kk + 1):
+                for mo in sorted({mi, -mi}):
+                    yield li, lo, mi, mo
+
+
 def dense_from_isobi2(coeff):
     """coeff [channels, K, 4, 4] -> dense [channels, N, N, 4, 4], rows (l_o, m_o)."""
     channels, k = coeff.shape[:2]
@@ -39,13 +49,8 @@ def dense_from_isobi2(coeff):
     assert isobi2_index(lmax, lmax, lmax, lmax) == k - 1, (k, lmax)
     n = (lmax + 1) ** 2
     out = np.zeros((channels, n, n, 4, 4))
-    for lo in range(lmax + 1):
-        for li in range(lmax + 1):
-            kk = min(lo, li)
-            for mi in range(-kk, kk + 1):
-                for mo in sorted({mi, -mi}):
-                    q = isobi2_index(li, lo, mi, mo)
-                    out[:, lo * lo + lo + mo, li * li + li + mi] = coeff[:, q]
+    for li, lo, mi, mo in isobi2_entries(lmax):
+        out[:, lo * lo + lo + mo, li * li + li + mi] = coeff[:, isobi2_index(li, lo, mi, mo)]
     return out, lmax
 
 
@@ -85,19 +90,14 @@ def test_synthetic_isobi2_product(psh, record):
     lmax = 7
     k = isobi2_index(lmax, lmax, lmax, lmax) + 1
     m = rng.normal(size=(3, k, 4, 4))
-    dense, _ = dense_from_isobi2(m)
     # PSH (31): no spin-2 (p = 1, 2) rows or columns below l = 2 (flat index < 4).
     low = np.zeros((3, k, 4, 4), dtype=bool)
-    for lo in range(lmax + 1):
-        for li in range(lmax + 1):
-            kk = min(lo, li)
-            for mi in range(-kk, kk + 1):
-                for mo in sorted({mi, -mi}):
-                    q = isobi2_index(li, lo, mi, mo)
-                    if lo < 2:
-                        low[:, q, 1:3, :] = True
-                    if li < 2:
-                        low[:, q, :, 1:3] = True
+    for li, lo, mi, mo in isobi2_entries(lmax):
+        q = isobi2_index(li, lo, mi, mo)
+        if lo < 2:
+            low[:, q, 1:3, :] = True
+        if li < 2:
+            low[:, q, :, 1:3] = True
     m[low] = 0.0
     v = rng.normal(size=(3, 144, 4))
     v[:, :4, 1:3] = 0.0
