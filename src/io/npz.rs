@@ -2,8 +2,9 @@
 //!
 //! - Coefficient vectors: keys `cod_type` (`"SCALAR"`, `"POLAR2"`, `"POLAR3"`,
 //!   `"POLAR4"`), `sh_type` (`"REAL"`) and `coeff` (`float64`, shape
-//!   `[channels, (lmax+1)^2, p]`, or `[channels, (lmax+1)^2]` and `[(lmax+1)^2]` for
-//!   `SCALAR`, as polarsh writes them; flat index `l*l + l + m`).
+//!   `[*channels, (lmax+1)^2, p]`, or `[*channels, (lmax+1)^2]` for `SCALAR`, as polarsh
+//!   writes them, with any number of channel axes, read as their product; written as
+//!   `[channels, ...]`; flat index `l*l + l + m`).
 //! - Isotropic coefficient matrices (pBRDFs): keys `dom_type` (`"ISOBI2"`), `cod_type`
 //!   (`"POLAR4"`), `sh_type` (`"REAL"`) and `coeff` (`float64`, shape
 //!   `[channels, K, 4, 4]`, `K` the entries of the isotropic layout,
@@ -118,22 +119,34 @@ fn band_limit(n: u64) -> Option<usize> {
 /// ([`FieldArgument::Travel`], polarsh's convention; [`PshVector::converted`] gives psh's).
 /// Errors name the file and the reason: unreadable, a key missing or unknown, an unknown
 /// `cod_type` or `sh_type`, a `coeff` that is not `float64` of shape
-/// `[channels, (L+1)^2, p]` matching the codomain (`[channels, (L+1)^2]` or `[(L+1)^2]`
-/// for `SCALAR`), non-finite values, non-zero spin-2 coefficients below `l = 2`.
+/// `[*channels, (L+1)^2, p]` matching the codomain (`[*channels, (L+1)^2]` for `SCALAR`;
+/// channel axes of any number, flattened), non-finite values, non-zero spin-2
+/// coefficients below `l = 2`.
 pub fn read_psh_npz(path: impl AsRef<Path>) -> Result<PshVector> {
     let path = path.as_ref();
     let mut npz = Archive::open(path, &VECTOR_KEYS)?;
     let codomain = npz.codomain()?;
     let np = codomain.components().len() as u64;
     let ((lmax, channels), data) = npz.coeff(|shape| {
-        let (channels, n) = match (codomain, shape) {
-            (Codomain::Intensity, [n]) => (1, *n),
-            (Codomain::Intensity, [c, n]) => (*c, *n),
-            (_, [c, n, p]) if *p == np => (*c, *n),
-            _ => (0, 0),
+        // polarsh's `[*channels, N]` (SCALAR) or `[*channels, N, p]`, any number of
+        // channel axes (none: one channel); psh's earlier SCALAR `[channels, N, 1]`.
+        let split = match (codomain, shape) {
+            (Codomain::Intensity, [c, n, 1]) => Some((std::slice::from_ref(c), *n)),
+            (Codomain::Intensity, [chan @ .., n]) => Some((chan, *n)),
+            (_, [chan @ .., n, p]) if *p == np => Some((chan, *n)),
+            _ => None,
         };
+        let (channels, n) = split
+            .and_then(|(chan, n)| {
+                chan.iter()
+                    .try_fold(1u64, |a, &c| a.checked_mul(c))
+                    .map(|c| (c, n))
+            })
+            .unwrap_or((0, 0));
         match band_limit(n) {
-            Some(lmax) if channels > 0 => Ok((lmax, channels as usize)),
+            Some(lmax) if channels > 0 && usize::try_from(channels).is_ok() => {
+                Ok((lmax, channels as usize))
+            }
             _ => Err(format!(
                 "coeff has shape {shape:?}, expected [channels, (lmax+1)^2{}] for {}",
                 if codomain == Codomain::Intensity {
@@ -329,8 +342,8 @@ mod tests {
         path
     }
 
-    /// polarsh saves `SCALAR` vectors as `[N]` (one channel) or `[channels, N]`: both read,
-    /// as does psh's earlier `[channels, N, 1]`.
+    /// polarsh saves `SCALAR` vectors as `[N]` (one channel) or `[*channels, N]`, and the
+    /// others as `[*channels, N, p]`: all read, as does psh's earlier `[channels, N, 1]`.
     #[test]
     fn reads_polarsh_scalar_shapes() {
         let keys = [("cod_type", "SCALAR"), ("sh_type", "REAL")];
@@ -348,6 +361,14 @@ mod tests {
         assert_eq!(three, two);
         let e = read_psh_npz(write_raw("s4.npz", &keys, &[9, 2], &data)).unwrap_err();
         assert!(e.to_string().contains("shape [9, 2]"), "{e}");
+        // Channel axes of any rank, or none, for every codomain.
+        let grid = read_psh_npz(write_raw("s5.npz", &keys, &[1, 2, 9], &data)).unwrap();
+        assert_eq!(grid, two);
+        let polar = [("cod_type", "POLAR2"), ("sh_type", "REAL")];
+        let mut lin = vec![0.0; 18];
+        lin[8..].copy_from_slice(&data[..10]);
+        let v = read_psh_npz(write_raw("p1.npz", &polar, &[9, 2], &lin)).unwrap();
+        assert_eq!((v.channels(), v.data()), (1, &lin[..]));
     }
 
     /// Unknown keys, wrong shapes, unknown types, non-npz files: errors with the path.
