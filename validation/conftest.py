@@ -110,8 +110,8 @@ class Recorder:
 def record(request):
     rec = Recorder(request.node.nodeid)
     yield rec
-    if getattr(request.node, "_call_failed", True):
-        return  # the test itself failed (or never ran): that is its report
+    if getattr(request.node, "_call_failed", True) or getattr(request.node, "_call_skipped", False):
+        return  # the test itself failed, never ran or was skipped: that is its report
     assert rec.rows, f"{request.node.nodeid} recorded no comparison"
     failed = [r for r in rec.rows if not r["passed"]]
     assert not failed, "\n".join(
@@ -126,6 +126,7 @@ def pytest_runtest_makereport(item, call):
     rep = outcome.get_result()
     if rep.when == "call":
         item._call_failed = rep.failed
+        item._call_skipped = rep.skipped
 
 
 def pytest_runtest_logreport(report):
