@@ -1008,3 +1008,24 @@ fn eval_fresnel_and_polarizer() {
         }
     }
 }
+
+/// A transform grid beyond the output bound is refused before any table is built, for
+/// the scalar and the spin transform.
+#[test]
+fn eval_sht_refuses_huge_grids_before_allocating() {
+    let dir = eval_dir("sht-huge");
+    let (c, g) = (dir.join("c.npy"), dir.join("g.npy"));
+    write_npy(&c, &[1], &[0.0]);
+    for cmd in [
+        vec!["eval", "sht", "--kind", "real"],
+        vec!["eval", "spin-sht", "--spin", "2"],
+    ] {
+        let mut args = cmd.clone();
+        args.extend(["--lmax", "8192", "--op", "synthesis"]);
+        args.extend(["--input", path_str(&c), "--out", path_str(&g)]);
+        let out = psh(&args);
+        assert_eq!(out.status.code(), Some(1), "{cmd:?}");
+        let e = String::from_utf8_lossy(&out.stderr);
+        assert!(e.contains("grid values") && e.contains("134250498"), "{e}");
+    }
+}

@@ -1134,7 +1134,15 @@ fn grid_json(grid: &psh::sh::grid::SphereGrid) -> serde_json::Value {
     json!({"n_theta": grid.rings.len(), "n_phi": grid.n_phi, "theta": grid.rings.theta})
 }
 
+/// Errors when the exact grid of band `lmax` (`lmax + 1` rings of `2 lmax + 2` points)
+/// would hold more than [`MAX_EVAL_VALUES`] values, before any table is built.
+fn check_grid_size(lmax: usize) -> psh::Result<()> {
+    psh::sh::check_lmax(lmax)?;
+    check_output_size("grid values", (lmax + 1) * (2 * lmax + 2))
+}
+
 fn eval_sht(a: &ShtArgs) -> psh::Result<serde_json::Value> {
+    check_grid_size(a.lmax)?;
     let t = psh::sh::transform::ShTransform::new(a.lmax)?;
     let grid = t.grid();
     let n = psh::sh::num_coeffs(a.lmax) as u64;
@@ -1176,6 +1184,7 @@ fn eval_sht(a: &ShtArgs) -> psh::Result<serde_json::Value> {
 }
 
 fn eval_spin_sht(a: &SpinShtArgs) -> psh::Result<serde_json::Value> {
+    check_grid_size(a.lmax)?;
     let t = psh::swsh::transform::SpinTransform::new(a.spin, a.lmax)?;
     let grid = t.grid();
     let n = psh::sh::num_coeffs(a.lmax) as u64;
