@@ -2,7 +2,7 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use psh::polarized::{kernel_coefficients, Codomain, ConvolutionKernel};
-use psh::verify::random_psh;
+use psh::testing::random_psh;
 
 /// PSH (68): kernel coefficients of l < 100 by 1D quadrature; PSH (69): convolution of an
 /// RGB {s0..s3} vector of l < 100.

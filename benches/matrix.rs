@@ -4,7 +4,7 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use psh::optics::PolarizedPlastic;
 use psh::polarized::{project_operator, Codomain, IsotropicMatrix, SpinBlock22};
 use psh::sh::wigner::rotation_from_rotvec;
-use psh::verify::random_psh;
+use psh::testing::random_psh;
 
 /// Project an isotropic pBRDF (polarized plastic) to a sparse PSH matrix of l < 5 and
 /// l < 10 on the exact grid of the same band.

@@ -4,8 +4,9 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use psh::geometry::frame::CubeMapFrameField;
 use psh::geometry::image_grid::{CubeCross, PixelGrid};
 use psh::polarized::{project_cube_map, project_image, Codomain, PshEvaluator, PshRotation};
+use psh::random::pseudo_random;
 use psh::sh::wigner::rotation_from_rotvec;
-use psh::verify::{pseudo_random, random_psh};
+use psh::testing::random_psh;
 
 /// A 64x64x6 Stokes cube map, RGB, four components, to PSH coefficients l < 16.
 fn psh_project(c: &mut Criterion) {
@@ -57,7 +58,7 @@ fn psh_rotate(c: &mut Criterion) {
 /// Point evaluation PSH (30) of an RGB, four-component vector at 1,000 directions with one
 /// `PshEvaluator` (the renderer's per-vertex step), l <= 4 and l <= 9.
 fn psh_evaluate(c: &mut Criterion) {
-    let dirs = psh::verify::random_directions(1000, 5);
+    let dirs = psh::testing::random_directions(1000, 5);
     let mut grp = c.benchmark_group("psh_evaluate");
     for lmax in [4, 9] {
         let v = random_psh(lmax, Codomain::Full, 3, 6).unwrap();

@@ -2,7 +2,7 @@
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion};
 use psh::sh::solid::SolidHarmonics;
-use psh::verify::random_directions;
+use psh::testing::random_directions;
 
 /// Values, gradients and Hessians of all real SH `l <= L` at 10,000 directions (the
 /// setting of SHH Fig. 4), outputs reused across iterations: `1e4_dirs` on every core

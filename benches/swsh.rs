@@ -2,9 +2,9 @@
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion};
 use num_complex::Complex64;
+use psh::random::pseudo_random;
 use psh::sh::num_coeffs;
 use psh::swsh::transform::SpinTransform;
-use psh::verify::pseudo_random;
 
 /// Spin-2 (linear polarization) transforms on the exact Gauss-Legendre grid: `sht_spin2`
 /// on every core (rayon's pool), `sht_spin2_1thread` on one (ducc0's default).

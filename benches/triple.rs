@@ -2,7 +2,7 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use psh::polarized::{visibility_transfer, PshVector, TripleTable};
-use psh::verify::pseudo_random;
+use psh::random::pseudo_random;
 
 /// PSH (54)-(56): the transfer matrix of l < 5 from a visibility vector of l < 10.
 fn triple(c: &mut Criterion) {

@@ -213,7 +213,7 @@ mod tests {
     #[test]
     fn reconstruct_then_project() {
         let lmax = 3;
-        let v = crate::verify::random_psh(lmax, Codomain::Full, 2, 23).unwrap();
+        let v = crate::testing::random_psh(lmax, Codomain::Full, 2, 23).unwrap();
         for layout in [
             MapLayout::from_image_size(96, 128).unwrap(),
             MapLayout::from_image_size(64, 128).unwrap(),

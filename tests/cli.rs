@@ -168,7 +168,7 @@ fn project_rotate_reconstruct_pipeline() {
     std::fs::create_dir_all(&dir).unwrap();
     let p = |name: &str| dir.join(name).to_str().unwrap().to_string();
     let lmax = 4;
-    let v = psh::verify::random_psh(lmax, Codomain::Full, 3, 31).unwrap();
+    let v = psh::testing::random_psh(lmax, Codomain::Full, 3, 31).unwrap();
     let map = StokesMap::reconstruct(&v, MapLayout::from_image_size(96, 128).unwrap()).unwrap();
     exr::write_stokes_map(&map, &p("in_s%d.exr")).unwrap();
 
@@ -388,7 +388,7 @@ fn convolve_with_builtin_and_table_kernels() {
     let dir = std::env::temp_dir().join(format!("psh-cli-conv-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let p = |name: &str| dir.join(name).to_str().unwrap().to_string();
-    let v = psh::verify::random_psh(6, Codomain::NoCircular, 3, 41).unwrap();
+    let v = psh::testing::random_psh(6, Codomain::NoCircular, 3, 41).unwrap();
     npz::write_psh_npz(p("in.npz"), &v).unwrap();
     let out = psh(&[
         "convolve",
@@ -538,7 +538,7 @@ fn apply_isotropic_matrix_file() {
         .map(|q| {
             let (jo, ji) = isotropic_pairs(lmax)[(q / 16) % k];
             let (po, pi) = ((q / 4) % 4, q % 4);
-            if (jo < 4 && (po == 1 || po == 2)) || (ji < 4 && (pi == 1 || pi == 2)) {
+            if !(psh::polarized::in_index_set(jo, po) && psh::polarized::in_index_set(ji, pi)) {
                 0.0
             } else {
                 ((q * 37) % 113) as f64 / 113.0 - 0.5
@@ -549,7 +549,7 @@ fn apply_isotropic_matrix_file() {
         .unwrap()
         .labelled(FieldArgument::Travel, FieldArgument::Travel);
     npz::write_isotropic_npz(p("m.npz"), &m).unwrap();
-    let v = psh::verify::random_psh(6, Codomain::NoCircular, 3, 43)
+    let v = psh::testing::random_psh(6, Codomain::NoCircular, 3, 43)
         .unwrap()
         .labelled(FieldArgument::Travel);
     npz::write_psh_npz(p("v.npz"), &v).unwrap();

@@ -8,10 +8,10 @@ use psh::polarized::{
     PshRotation, PshVector,
 };
 use psh::sh::wigner::rotation_from_rotvec;
-use psh::verify::{random_psh, random_psh_matrix};
+use psh::testing::{random_psh, random_psh_matrix};
 
 fn random_kernel(lmax: usize, seed: u64) -> psh::polarized::KernelCoefficients {
-    psh::verify::random_kernel(lmax, seed).unwrap()
+    psh::testing::random_kernel(lmax, seed).unwrap()
 }
 
 fn rotvec() -> impl Strategy<Value = [f64; 3]> {

@@ -51,7 +51,7 @@ proptest! {
         // (s0 alone does not depend on frames: the images would not differ.)
         let codomain = [Codomain::Linear, Codomain::NoCircular, Codomain::Full][cod];
         let lmax = 6;
-        let v = psh::verify::random_psh(lmax, codomain, 2, seed).unwrap();
+        let v = psh::testing::random_psh(lmax, codomain, 2, seed).unwrap();
         let grid = CubeCross::new(8).unwrap();
         let g = Frame::from_rotation(&rotation_from_rotvec(pole).unwrap()).unwrap();
         let random = RandomFrames { base: ThetaPhiFrameField::with_global(g), seed };
@@ -71,7 +71,7 @@ proptest! {
     #[test]
     fn intensity_rotation_is_the_s0_block(a in rotvec(), seed in 0u64..1000) {
         let lmax = 8;
-        let v = psh::verify::random_psh(lmax, Codomain::Intensity, 2, seed).unwrap();
+        let v = psh::testing::random_psh(lmax, Codomain::Intensity, 2, seed).unwrap();
         let r = rotation_from_rotvec(a).unwrap();
         let scalar = PshRotation::for_codomain(&r, lmax, Codomain::Intensity).unwrap()
             .rotate(&v).unwrap();
@@ -80,7 +80,7 @@ proptest! {
         let s0 = full.with_codomain(Codomain::Intensity);
         prop_assert_eq!(s0.data(), scalar.data());
         prop_assert!(full.data().chunks_exact(4).all(|x| x[1..] == [0.0; 3]));
-        let spin = psh::verify::random_psh(lmax, Codomain::Full, 1, seed).unwrap();
+        let spin = psh::testing::random_psh(lmax, Codomain::Full, 1, seed).unwrap();
         prop_assert!(PshRotation::for_codomain(&r, lmax, Codomain::Intensity).unwrap()
             .rotate(&spin).is_err());
     }
@@ -89,7 +89,7 @@ proptest! {
     #[test]
     fn psh_rotations_compose(a in rotvec(), b in rotvec(), seed in 0u64..1000) {
         let lmax = 10;
-        let v = psh::verify::random_psh(lmax, Codomain::Full, 2, seed).unwrap();
+        let v = psh::testing::random_psh(lmax, Codomain::Full, 2, seed).unwrap();
         let (r1, r2): (Rotation3<f64>, Rotation3<f64>) =
             (rotation_from_rotvec(a).unwrap(), rotation_from_rotvec(b).unwrap());
         let one = PshRotation::new(&(r1 * r2), lmax).unwrap().rotate(&v).unwrap();

@@ -22,7 +22,7 @@ proptest! {
     fn rotations_compose(a in rotvec(), b in rotvec(), seed in 0u64..1000) {
         let lmax = 12;
         let (r1, r2) = (rotation_from_rotvec(a).unwrap(), rotation_from_rotvec(b).unwrap());
-        let c = psh::verify::pseudo_random(num_coeffs(lmax), seed);
+        let c = psh::random::pseudo_random(num_coeffs(lmax), seed);
         let one = RealWignerD::new(&(r1 * r2), lmax).unwrap().rotate(&c).unwrap();
         let two = RealWignerD::new(&r1, lmax).unwrap()
             .rotate(&RealWignerD::new(&r2, lmax).unwrap().rotate(&c).unwrap()).unwrap();
@@ -37,7 +37,7 @@ proptest! {
     fn rotations_are_unitary(a in rotvec(), seed in 0u64..1000) {
         let lmax = 16;
         let r = rotation_from_rotvec(a).unwrap();
-        let re = psh::verify::pseudo_random(num_coeffs(lmax), seed);
+        let re = psh::random::pseudo_random(num_coeffs(lmax), seed);
         let c: Vec<Complex64> = re.iter().map(|&x| Complex64::new(x, 0.5 - x * x)).collect();
         let d = WignerD::new(&r, lmax).unwrap();
         let rc = d.rotate(&c).unwrap();
@@ -55,7 +55,7 @@ proptest! {
     fn rotation_commutes_with_evaluation(a in rotvec(), t in 0.0f64..std::f64::consts::PI, p in -3.2f64..3.2) {
         let lmax = 10;
         let r = rotation_from_rotvec(a).unwrap();
-        let c = psh::verify::pseudo_random(num_coeffs(lmax), 5);
+        let c = psh::random::pseudo_random(num_coeffs(lmax), 5);
         let rc = RealWignerD::new(&r, lmax).unwrap().rotate(&c).unwrap();
         let w = Vector3::from(direction(t, p));
         let v = r.inverse() * w;
@@ -84,7 +84,7 @@ proptest! {
     #[test]
     fn transforms_invert(lmax in 0usize..40, seed in 0u64..1000) {
         let t = ShTransform::new(lmax).unwrap();
-        let c = psh::verify::pseudo_random(num_coeffs(lmax), seed);
+        let c = psh::random::pseudo_random(num_coeffs(lmax), seed);
         let mut f = vec![0.0; t.grid().len()];
         t.synthesis_real(&c, &mut f).unwrap();
         let mut back = vec![0.0; c.len()];

@@ -14,7 +14,7 @@ pub fn sponza_or_synthetic(lmax: usize) -> psh::Result<(PshVector, String)> {
     } else {
         println!("  shared data missing ({pattern}): using a synthetic band-limited map");
         Ok((
-            psh::verify::random_psh(lmax, Codomain::Full, 3, 2024)?,
+            psh::testing::random_psh(lmax, Codomain::Full, 3, 2024)?,
             "synthetic".into(),
         ))
     }

@@ -181,7 +181,7 @@ mod tests {
         let dir = tmp("rt");
         for (size, nch) in [((24, 32), 3), ((8, 16), 1)] {
             let layout = MapLayout::from_image_size(size.0, size.1).unwrap();
-            let v = crate::verify::random_psh(3, Codomain::Full, nch, 7).unwrap();
+            let v = crate::testing::random_psh(3, Codomain::Full, nch, 7).unwrap();
             let map = StokesMap::reconstruct(&v, layout).unwrap();
             let pattern = dir.join("m_s%d.exr");
             let pattern = pattern.to_str().unwrap();
@@ -207,7 +207,7 @@ mod tests {
     fn bad_files_are_errors_naming_the_file() {
         let dir = tmp("bad");
         let layout = MapLayout::from_image_size(12, 16).unwrap();
-        let v = crate::verify::random_psh(2, Codomain::Full, 3, 9).unwrap();
+        let v = crate::testing::random_psh(2, Codomain::Full, 3, 9).unwrap();
         let map = StokesMap::reconstruct(&v, layout).unwrap();
         let pat = |n: &str| {
             dir.join(format!("{n}_s%d.exr"))

@@ -300,7 +300,7 @@ mod tests {
             Codomain::NoCircular,
             Codomain::Full,
         ] {
-            let v = crate::verify::random_psh(5, cod, 3, 11).unwrap();
+            let v = crate::testing::random_psh(5, cod, 3, 11).unwrap();
             let path = tmp(&format!("{}.npz", cod.name()));
             write_psh_npz(&path, &v).unwrap();
             let back = read_psh_npz(&path).unwrap();
@@ -374,7 +374,7 @@ mod tests {
     /// Unknown keys, wrong shapes, unknown types, non-npz files: errors with the path.
     #[test]
     fn bad_files_are_errors_naming_the_file() {
-        let v = crate::verify::random_psh(2, Codomain::Full, 1, 13).unwrap();
+        let v = crate::testing::random_psh(2, Codomain::Full, 1, 13).unwrap();
         let good = [("cod_type", "POLAR4"), ("sh_type", "REAL")];
         let d = v.data();
         let cases = [
@@ -432,8 +432,8 @@ mod tests {
             .map(|i| {
                 let (jo, ji) = isotropic_pairs(3)[(i / 16) % k];
                 let (po, pi) = ((i / 4) % 4, i % 4);
-                let spin2_low =
-                    (jo < 4 && (po == 1 || po == 2)) || (ji < 4 && (pi == 1 || pi == 2));
+                let spin2_low = !(crate::polarized::in_index_set(jo, po)
+                    && crate::polarized::in_index_set(ji, pi));
                 if spin2_low {
                     0.0
                 } else {

@@ -238,7 +238,7 @@ mod tests {
     fn map_pictures() {
         let dir = std::env::temp_dir().join(format!("psh-png-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let v = crate::verify::random_psh(3, Codomain::Full, 3, 5).unwrap();
+        let v = crate::testing::random_psh(3, Codomain::Full, 3, 5).unwrap();
         let map = StokesMap::reconstruct(&v, MapLayout::from_image_size(24, 32).unwrap()).unwrap();
         let prefix = dir.join("m");
         let paths = write_map_pngs(&map, prefix.to_str().unwrap()).unwrap();

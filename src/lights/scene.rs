@@ -10,7 +10,7 @@ use super::grid::{Interpolation, LightGrid, LightSource};
 
 use super::spherical::{Order, SphericalLight};
 use crate::error::Result;
-use crate::verify::pseudo_random;
+use crate::random::pseudo_random;
 
 /// Shading points and lights of the scene.
 #[derive(Clone, Debug)]

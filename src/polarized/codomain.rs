@@ -3,6 +3,13 @@
 
 use crate::error::{Error, Result};
 
+/// Whether flat SH index `j = l*l + l + m` with Stokes component `p` lies in the index
+/// set PSH (31): `l >= 0` for `p = 0, 3`, `l >= 2` for the spin-2 components `p = 1, 2`.
+#[inline]
+pub fn in_index_set(j: usize, p: usize) -> bool {
+    j >= 4 || !(p == 1 || p == 2)
+}
+
 /// Which Stokes components a field or coefficient vector carries (polarsh `cod_type`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Codomain {

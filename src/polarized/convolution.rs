@@ -18,7 +18,7 @@
 //! block for `m = 0`), which is how [`KernelCoefficients::convolve`] applies it.
 
 use super::kernel::{ConvolutionKernel, KernelValue};
-use super::{Codomain, FieldArgument, PshMatrix, PshVector};
+use super::{in_index_set, Codomain, FieldArgument, PshMatrix, PshVector};
 use crate::error::{Error, Result};
 use crate::sh::grid::GaussLegendre;
 use crate::sh::harmonics::real_from_complex;
@@ -369,7 +369,7 @@ fn real_blocks(l: usize, g: &Channels) -> ([f64; 16], [f64; 64], [f64; 64]) {
         for k in 0..8 {
             let mut x = [[0.0; 4]; 2];
             x[k / 4][k % 4] = 1.0;
-            if l < 2 && (k % 4 == 1 || k % 4 == 2) {
+            if !in_index_set(crate::sh::lm_index(l, 0), k % 4) {
                 continue;
             }
             let y = apply_channels(g, m, &x);

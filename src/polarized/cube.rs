@@ -132,7 +132,7 @@ mod tests {
     #[test]
     fn equals_the_whole_cross_quadrature() {
         let g = CubeCross::new(6).unwrap();
-        let r = crate::verify::pseudo_random(g.len() * 8, 7);
+        let r = crate::random::pseudo_random(g.len() * 8, 7);
         let chans: Vec<Vec<[f64; 4]>> = (0..2)
             .map(|c| {
                 (0..g.len())

@@ -111,7 +111,7 @@ mod tests {
     use crate::polarized::Codomain;
     use crate::sh::harmonics::sh_real;
     use crate::swsh::swsh;
-    use crate::verify::{random_directions, random_psh};
+    use crate::testing::{random_directions, random_psh};
 
     /// Against the sum PSH (30) with the real SH and the spin-2 SH by Risbo's recursion
     /// ([`crate::swsh::swsh`], an independent `O(lmax^3)` path), poles included; to

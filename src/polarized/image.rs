@@ -189,7 +189,7 @@ mod tests {
     #[test]
     fn cube_map_projection_converges() {
         let lmax = 4;
-        let v = crate::verify::random_psh(lmax, Codomain::Full, 1, 5).unwrap();
+        let v = crate::testing::random_psh(lmax, Codomain::Full, 1, 5).unwrap();
         let mut errs = vec![];
         for e in [16usize, 32] {
             let g = CubeCross::new(e).unwrap();

@@ -14,7 +14,7 @@
 //! - each entry a 4 x 4 block `[p_o][p_i]`.
 
 use super::matrix::apply_by_channel;
-use super::{FieldArgument, PshMatrix, PshVector};
+use super::{in_index_set, FieldArgument, PshMatrix, PshVector};
 use crate::error::{check_len, Error, Result};
 use crate::sh::{lm_index, lm_of_index, num_coeffs};
 use crate::stokes::complex_pair;
@@ -170,7 +170,7 @@ impl IsotropicMatrix {
         for (q, x) in data.iter().enumerate() {
             let (jo, ji) = pairs[(q / 16) % pairs.len()];
             let (po, pi) = ((q / 4) % 4, q % 4);
-            let spin2_low = (jo < 4 && (po == 1 || po == 2)) || (ji < 4 && (pi == 1 || pi == 2));
+            let spin2_low = !(in_index_set(jo, po) && in_index_set(ji, pi));
             if spin2_low && *x != 0.0 {
                 return Err(Error::InvalidArgument {
                     name: "isotropic matrix entry",
@@ -395,7 +395,7 @@ mod tests {
             .map(|q| {
                 let (jo, ji) = pairs[(q / 16) % pairs.len()];
                 let (po, pi) = ((q / 4) % 4, q % 4);
-                if (jo < 4 && (po == 1 || po == 2)) || (ji < 4 && (pi == 1 || pi == 2)) {
+                if !(in_index_set(jo, po) && in_index_set(ji, pi)) {
                     0.0
                 } else {
                     ((q * 7919) % 1000) as f64 / 1000.0 - 0.5
@@ -429,7 +429,7 @@ mod tests {
     fn channels_apply_in_one_call() {
         let lmax = 4;
         let m = IsotropicMatrix::from_blocks(lmax, 2, &distinct_blocks(lmax)).unwrap();
-        let f = crate::verify::random_psh(lmax, super::super::Codomain::Full, 2, 5).unwrap();
+        let f = crate::testing::random_psh(lmax, super::super::Codomain::Full, 2, 5).unwrap();
         let out = m.apply(&f).unwrap();
         assert_eq!(out.argument(), FieldArgument::Travel);
         for c in 0..2 {
@@ -448,7 +448,7 @@ mod tests {
             both.channel(1).unwrap(),
             one.apply(&f.channel(1).unwrap()).unwrap()
         );
-        let three = crate::verify::random_psh(lmax, super::super::Codomain::Full, 3, 6).unwrap();
+        let three = crate::testing::random_psh(lmax, super::super::Codomain::Full, 3, 6).unwrap();
         assert!(m.apply(&three).is_err());
         assert!(m.apply(&f.converted(FieldArgument::Travel)).is_err());
         assert!(IsotropicMatrix::from_channels(&[

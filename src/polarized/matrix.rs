@@ -4,7 +4,7 @@
 //! (PSH (42)-(43)) with the spin 2-to-2 block by complex pair separation (PSH (44)-(51),
 //! `proofs/coefficient-matrices.md`).
 
-use super::{Codomain, FieldArgument, PshTransform, PshVector};
+use super::{in_index_set, Codomain, FieldArgument, PshTransform, PshVector};
 use crate::error::{check_len, Error, Result};
 use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
 use crate::sh::num_coeffs;
@@ -464,11 +464,6 @@ pub(super) fn apply_by_channel(
     Ok(PshVector::from_data(lmax, Codomain::Full, f.channels(), out)?.labelled(output))
 }
 
-/// Whether flat index `j` with Stokes component `p` is in PSH (31).
-fn in_index_set(j: usize, p: usize) -> bool {
-    !(j < 4 && (p == 1 || p == 2))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -477,7 +472,7 @@ mod tests {
     /// path (the complex-pair path: check `matrix.projection_exact`); bad grids are errors.
     #[test]
     fn four_integrals_recover_band_limited_operators() {
-        let m = crate::verify::random_psh_matrix(3, 5).unwrap();
+        let m = crate::testing::random_psh_matrix(3, 5).unwrap();
         let p = project_operator(&MatrixKernel(&m), 3, 3, SpinBlock22::FourIntegrals).unwrap();
         let err = p
             .data()
@@ -496,8 +491,8 @@ mod tests {
     /// a vector in the other convention is an error, not a silent flip.
     #[test]
     fn with_input_composes_with_the_vector_map() {
-        let m = crate::verify::random_psh_matrix(4, 7).unwrap();
-        let f = crate::verify::random_psh(4, Codomain::Full, 2, 8).unwrap();
+        let m = crate::testing::random_psh_matrix(4, 7).unwrap();
+        let f = crate::testing::random_psh(4, Codomain::Full, 2, 8).unwrap();
         let pt = m.with_input(FieldArgument::Travel).unwrap();
         assert_eq!(pt.input(), FieldArgument::Travel);
         assert!(pt.apply(&f).is_err());

@@ -33,7 +33,7 @@ mod vector;
 
 pub use angular::apply_angular;
 pub use argument::FieldArgument;
-pub use codomain::Codomain;
+pub use codomain::{in_index_set, Codomain};
 pub use convolution::{
     convolve_angular, kernel_coefficients, project_to_convolution, rotation_average,
     KernelCoefficients,

@@ -118,7 +118,7 @@ impl SparsePshMatrix {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::verify::random_psh;
+    use crate::testing::random_psh;
 
     /// Restricted to every codomain, the sparse product equals the dense product read in
     /// that codomain when the input has only those components; the isotropic pattern of an

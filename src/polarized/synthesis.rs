@@ -150,7 +150,7 @@ mod tests {
     fn matches_pointwise_evaluation() {
         let lmax = 9;
         for cod in [Codomain::Full, Codomain::NoCircular, Codomain::Linear] {
-            let v = crate::verify::random_psh(lmax, cod, 2, 17).unwrap();
+            let v = crate::testing::random_psh(lmax, cod, 2, 17).unwrap();
             let eq = Equirect::new(7, 14).unwrap();
             let tp = ThetaPhiFrameField::new();
             let cube = CubeCross::new(3).unwrap();

@@ -125,7 +125,7 @@ mod tests {
         let lmax = 6;
         let t = PshTransform::new(lmax).unwrap();
         let mut v = PshVector::zeros(lmax, Codomain::Linear, 1).unwrap();
-        let re = crate::verify::pseudo_random(num_coeffs(lmax), 9);
+        let re = crate::random::pseudo_random(num_coeffs(lmax), 9);
         let z: Vec<Complex64> = re
             .iter()
             .enumerate()

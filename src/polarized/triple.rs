@@ -12,7 +12,7 @@
 //!   `P~iso_{j_o j_i} = sum v_{l'm'} int conj(2Y_{j_o}) Y^R_{l'm'} 2Y_{j_i}` (PSH (56)).
 //! - Spin 0-to-2 and 2-to-0 blocks vanish.
 
-use super::{Codomain, PshMatrix, PshVector};
+use super::{in_index_set, Codomain, PshMatrix, PshVector};
 use crate::error::{Error, Result};
 use crate::sh::gaunt::{wigner_3j_row, wigner_3j_row_into, GauntBasis, GauntTable};
 use crate::sh::{check_lmax, lm_index, num_coeffs};
@@ -295,7 +295,7 @@ pub fn visibility_transfer_quadrature(v: &PshVector, lmax: usize) -> Result<PshM
     for j in 0..n {
         for p in 0..4 {
             let mut data = vec![0.0; nb * 4];
-            if !(j < 4 && (p == 1 || p == 2)) {
+            if in_index_set(j, p) {
                 data[j * 4 + p] = 1.0;
             }
             let b = PshVector::from_data(big, Codomain::Full, 1, data)?;
@@ -320,10 +320,10 @@ pub fn visibility_transfer_quadrature(v: &PshVector, lmax: usize) -> Result<PshM
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::random::pseudo_random;
     use crate::sh::harmonics::sh_complex;
     use crate::sh::lm_of_index;
     use crate::swsh::swsh;
-    use crate::verify::pseudo_random;
 
     /// `shadow` equals the matrix product, in every codomain, and a scalar-only table
     /// refuses spin-2 input.
@@ -333,7 +333,7 @@ mod tests {
         let v = PshVector::scalar(lv, pseudo_random(num_coeffs(lv), 3)).unwrap();
         let want_full = TripleTable::new(lv, lmax).unwrap().transfer(&v).unwrap();
         for cod in [Codomain::Intensity, Codomain::NoCircular, Codomain::Full] {
-            let f = crate::verify::random_psh(lmax, cod, 2, 5).unwrap();
+            let f = crate::testing::random_psh(lmax, cod, 2, 5).unwrap();
             let table = TripleTable::for_codomain(lv, lmax, cod).unwrap();
             let got = table.shadow(&v, &f).unwrap();
             let want = want_full.apply(&f).unwrap().with_codomain(cod);
@@ -342,7 +342,7 @@ mod tests {
             }
         }
         let scalar = TripleTable::for_codomain(lv, lmax, Codomain::Intensity).unwrap();
-        let f = crate::verify::random_psh(lmax, Codomain::Full, 1, 5).unwrap();
+        let f = crate::testing::random_psh(lmax, Codomain::Full, 1, 5).unwrap();
         assert!(scalar.shadow(&v, &f).is_err());
         assert!(scalar.transfer(&v).is_err());
         // A visibility of the other convention is an error, not a silent flip.
@@ -424,7 +424,7 @@ mod tests {
             for ji in 0..n {
                 for po in 0..4 {
                     for pi in 0..4 {
-                        let on = jo == ji && po == pi && !(jo < 4 && (po == 1 || po == 2));
+                        let on = jo == ji && po == pi && in_index_set(jo, po);
                         let e = if on { 1.0 } else { 0.0 };
                         assert!((m.get(jo, ji, po, pi) - e).abs() < 1e-14);
                     }
@@ -444,7 +444,7 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("degree 3"));
-        let colour = crate::verify::random_psh(3, Codomain::Intensity, 3, 4).unwrap();
+        let colour = crate::testing::random_psh(3, Codomain::Intensity, 3, 4).unwrap();
         assert!(t
             .transfer(&colour)
             .unwrap_err()

@@ -2,7 +2,7 @@
 //! `[channel][l*l + l + m][p]` of polarsh's `.npz`, with their codomain and the meaning
 //! of their argument ([`FieldArgument`]).
 
-use super::{Codomain, FieldArgument, PshEvaluator};
+use super::{in_index_set, Codomain, FieldArgument, PshEvaluator};
 use crate::error::{check_len, finite_all, Error, Result};
 use crate::sh::{lm_index, num_coeffs};
 use crate::stokes::StokesVector;
@@ -60,7 +60,7 @@ impl PshVector {
             for i in 0..4.min(num_coeffs(lmax)) {
                 for (k, &p) in codomain.components().iter().enumerate() {
                     let x = v.data[v.offset(c, i) + k];
-                    if (p == 1 || p == 2) && x != 0.0 {
+                    if !in_index_set(i, p) && x != 0.0 {
                         return Err(Error::InvalidArgument {
                             name: "PSH coefficient",
                             value: format!("f[{c}][{i}][{p}] = {x}"),
@@ -405,7 +405,7 @@ mod tests {
     /// of the theta-phi frame at `w`, i.e. `(s0, s1, -s2, -s3)`; and it is an involution.
     #[test]
     fn travel_convention_reverses_directions() {
-        let v = crate::verify::random_psh(6, Codomain::Full, 2, 3).unwrap();
+        let v = crate::testing::random_psh(6, Codomain::Full, 2, 3).unwrap();
         let t = v.converted(FieldArgument::Travel);
         assert_eq!(t.argument(), FieldArgument::Travel);
         assert_eq!(t.converted(FieldArgument::Travel), t);

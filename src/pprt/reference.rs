@@ -503,23 +503,17 @@ fn r3(n: usize, shift: [f64; 3]) -> [f64; 3] {
     std::array::from_fn(|k| (shift[k] + 0.5 + A[k] * n as f64).fract())
 }
 
-/// Three shifts in `[0, 1)` from a seed (SplitMix64).
+/// Three shifts in `[0, 1)` from a seed (the crate's generator, [`crate::random`]).
 fn shifts(seed: u64) -> [f64; 3] {
-    let mut x = seed;
-    std::array::from_fn(|_| {
-        x = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = x;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    })
+    let mut rng = crate::random::Rng::new(seed);
+    std::array::from_fn(|_| rng.unit())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::polarized::MatrixKernel;
-    use crate::verify::{random_directions, random_psh_matrix};
+    use crate::testing::{random_directions, random_psh_matrix};
 
     /// The contraction equals the direct double sum of [`MatrixKernel`] (PSH (40)), poles
     /// included.

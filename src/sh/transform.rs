@@ -438,17 +438,7 @@ mod tests {
     use super::*;
     use crate::sh::harmonics::ShEvaluator;
 
-    fn pseudo_random(n: usize, seed: u64) -> Vec<f64> {
-        let mut x = seed;
-        (0..n)
-            .map(|_| {
-                x = x
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                ((x >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-            })
-            .collect()
-    }
+    use crate::random::pseudo_random;
 
     #[test]
     fn real_synthesis_matches_pointwise_evaluation() {

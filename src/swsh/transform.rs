@@ -909,8 +909,8 @@ mod tests {
         for spin in [2i64, -2, 1, 3] {
             let lmax = 9;
             let t = SpinTransform::new(spin, lmax).unwrap();
-            let re = crate::verify::pseudo_random(num_coeffs(lmax), 3);
-            let im = crate::verify::pseudo_random(num_coeffs(lmax), 4);
+            let re = crate::random::pseudo_random(num_coeffs(lmax), 3);
+            let im = crate::random::pseudo_random(num_coeffs(lmax), 4);
             let c: Vec<Complex64> = re
                 .iter()
                 .zip(&im)
@@ -936,7 +936,7 @@ mod tests {
     fn round_trip_is_exact() {
         for (spin, lmax) in [(2i64, 2usize), (2, 33), (-2, 20), (1, 12)] {
             let t = SpinTransform::new(spin, lmax).unwrap();
-            let re = crate::verify::pseudo_random(num_coeffs(lmax), 5);
+            let re = crate::random::pseudo_random(num_coeffs(lmax), 5);
             let c: Vec<Complex64> = re
                 .iter()
                 .enumerate()
@@ -1008,7 +1008,7 @@ mod tests {
     fn results_do_not_depend_on_the_thread_count() {
         let lmax = 40;
         let t = SpinTransform::new(2, lmax).unwrap();
-        let re = crate::verify::pseudo_random(num_coeffs(lmax), 8);
+        let re = crate::random::pseudo_random(num_coeffs(lmax), 8);
         let c: Vec<Complex64> = re.iter().map(|&a| Complex64::new(a, -0.3 * a)).collect();
         let run = |threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new()

@@ -1,6 +1,6 @@
 //! Checks of the polarized spherical convolution theorem (`psh::polarized::convolution`).
 
-use super::{random_kernel, random_psh, random_psh_matrix, Check};
+use super::Check;
 use crate::error::Result;
 use crate::polarized::{
     apply_angular, convolve_angular, kernel_coefficients, project_operator, project_to_convolution,
@@ -8,6 +8,7 @@ use crate::polarized::{
     SpinBlock22,
 };
 use crate::sh::zonal::zonal_coefficients;
+use crate::testing::{random_kernel, random_psh, random_psh_matrix};
 
 pub fn checks() -> Vec<Check> {
     vec![
@@ -120,7 +121,7 @@ fn kernel_frames() -> Result<f64> {
     };
     let mut worst = 0.0f64;
     for k in 0..400 {
-        let r = super::pseudo_random(5, 1300 + k);
+        let r = crate::random::pseudo_random(5, 1300 + k);
         // theta away from the poles, where the great circle is not unique.
         let theta = 0.02 + (std::f64::consts::PI - 0.04) * 0.5 * (r[0] + 1.0);
         let phi = std::f64::consts::PI * r[1];

@@ -1,6 +1,6 @@
 //! Checks of the polarizing filter function (`psh::optics::filter`, PF).
 
-use super::{pseudo_random, Check};
+use super::Check;
 use crate::error::Result;
 use crate::optics::filter::{
     beta_approx, filter_angle, gamma_approx, ior_from_r0, mueller_filtered_reflection, omega,
@@ -10,6 +10,7 @@ use crate::optics::filter_table::{psi_curves, SpecularSource};
 use crate::optics::{
     malus_law, Channel, ComplexIor, FresnelCoefficients, LinearPolarizer, Material,
 };
+use crate::random::pseudo_random;
 use crate::stokes::StokesComponents;
 use nalgebra::Vector3;
 

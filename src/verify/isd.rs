@@ -1,14 +1,16 @@
 //! Checks of the isotropic spherical decomposition (`psh::isd`, ISD (6)-(19), (33)-(34)).
 
-use super::{pseudo_random, random_directions, Check};
+use super::Check;
 use crate::error::Result;
 use crate::isd::filter::{sh_rotate_dot, spherical_light};
 use crate::isd::{pi_l, DirectionSet, Isd, Pattern, PreConvolved, Profile, Sharing};
 use crate::lights::spherical::{Order, SphericalLight, SphericalLights};
+use crate::random::pseudo_random;
 use crate::sh::harmonics::{direction_angles, sh_real};
 use crate::sh::num_coeffs;
 use crate::sh::transform::ShTransform;
 use crate::sh::wigner::rotation_from_rotvec;
+use crate::testing::random_directions;
 
 pub fn checks() -> Vec<Check> {
     vec![

@@ -121,7 +121,7 @@ fn taylor_lights() -> Result<SphericalLights> {
 fn taylor_discrepancy(lights: &SphericalLights, h: f64) -> Result<f64> {
     let mut worst = 0.0f64;
     for (p, x) in TAYLOR_POINTS.into_iter().enumerate() {
-        for u in super::random_directions(24, 1400 + p as u64) {
+        for u in crate::testing::random_directions(24, 1400 + p as u64) {
             let rq = remainders(lights, x, u, h)?;
             let scale = rq.iter().fold(0.0f64, |a, (_, q)| a.max(q.abs()));
             let diff = rq.iter().fold(0.0f64, |a, (r, q)| a.max((r - q).abs()));
@@ -198,7 +198,7 @@ fn error_metric() -> Result<f64> {
         // at most e_l^m to third order, and their L2 norm at most E_abs.
         let h = 1e-3;
         let e_abs = point.error(Metric::Absolute, h);
-        for u in super::random_directions(24, 1500 + p as u64) {
+        for u in crate::testing::random_directions(24, 1500 + p as u64) {
             let res: f64 = remainders(&lights, x, u, h)?
                 .iter()
                 .map(|(r, _)| r * r)

@@ -1,11 +1,13 @@
 //! Checks of PSH coefficient matrices (`psh::polarized::matrix`).
 
-use super::{random_psh, random_psh_matrix, Check};
+use super::Check;
 use crate::error::Result;
 use crate::polarized::{
-    apply_angular, project_operator, Codomain, MatrixKernel, PshTransform, SpinBlock22,
+    apply_angular, in_index_set, project_operator, Codomain, MatrixKernel, PshTransform,
+    SpinBlock22,
 };
 use crate::stokes::MuellerField;
+use crate::testing::{random_psh, random_psh_matrix};
 
 pub fn checks() -> Vec<Check> {
     vec![
@@ -72,7 +74,7 @@ fn brute_force_matrix(
 ) -> Result<Vec<f64>> {
     use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
     use crate::polarized::PshVector;
-    use crate::sh::{lm_of_index, num_coeffs};
+    use crate::sh::num_coeffs;
     let t = PshTransform::new(grid_lmax)?;
     let grid = t.grid();
     let (np, n, big) = (grid.len(), num_coeffs(lmax), num_coeffs(grid_lmax));
@@ -80,7 +82,7 @@ fn brute_force_matrix(
     let mut basis = vec![vec![[0.0; 4]; np]; n * 4];
     for j in 0..n {
         for p in 0..4 {
-            if (p == 1 || p == 2) && lm_of_index(j).0 < 2 {
+            if !in_index_set(j, p) {
                 continue;
             }
             let mut data = vec![0.0; big * 4];

@@ -28,7 +28,6 @@ mod swsh;
 mod triple;
 
 use crate::error::Result;
-use crate::polarized::{Codomain, PshVector};
 use serde::Serialize;
 
 /// One check: what it verifies, against what, and how.
@@ -118,73 +117,4 @@ pub fn run(filter: Option<&str>) -> Vec<CheckResult> {
         .filter(|c| filter.is_none_or(|f| c.id.contains(f)))
         .map(Check::evaluate)
         .collect()
-}
-
-/// Deterministic pseudo-random numbers in `[-1, 1)` (a 64-bit LCG), for reproducible
-/// test inputs without a dependency.
-pub fn pseudo_random(n: usize, seed: u64) -> Vec<f64> {
-    let mut x = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15).wrapping_add(1);
-    (0..n)
-        .map(|_| {
-            x = x
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((x >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-        })
-        .collect()
-}
-
-/// `n` deterministic pseudo-random unit directions (polar angle uniform in `[0, pi]`,
-/// azimuth in `[-3.2, 3.2)`), from [`pseudo_random`] with `seed`.
-pub fn random_directions(n: usize, seed: u64) -> Vec<[f64; 3]> {
-    let r = pseudo_random(2 * n, seed);
-    (0..n)
-        .map(|k| {
-            crate::sh::harmonics::direction(
-                (r[2 * k] + 1.0) * 0.5 * std::f64::consts::PI,
-                r[2 * k + 1] * 3.2,
-            )
-        })
-        .collect()
-}
-
-/// Random coefficients on the index set PSH (31).
-pub fn random_psh(
-    lmax: usize,
-    codomain: Codomain,
-    channels: usize,
-    seed: u64,
-) -> Result<PshVector> {
-    let p = codomain.components().len();
-    let mut data = pseudo_random(channels * crate::sh::num_coeffs(lmax) * p, seed);
-    for (i, x) in data.iter_mut().enumerate() {
-        let lm = (i / p) % crate::sh::num_coeffs(lmax);
-        let comp = codomain.components()[i % p];
-        if lm < 4 && (comp == 1 || comp == 2) {
-            *x = 0.0;
-        }
-    }
-    PshVector::from_data(lmax, codomain, channels, data)
-}
-
-/// Convolution coefficients with random real forms `g_l` (all 16 entries), `l <= lmax`.
-pub fn random_kernel(lmax: usize, seed: u64) -> Result<crate::polarized::KernelCoefficients> {
-    let r = pseudo_random((lmax + 1) * 16, seed);
-    let forms: Vec<crate::polarized::KernelValue> = (0..=lmax)
-        .map(|l| std::array::from_fn(|q| std::array::from_fn(|p| r[l * 16 + q * 4 + p])))
-        .collect();
-    crate::polarized::KernelCoefficients::from_real_form(&forms)
-}
-
-/// A random coefficient matrix (full Stokes) on the index set PSH (31).
-pub fn random_psh_matrix(lmax: usize, seed: u64) -> Result<crate::polarized::PshMatrix> {
-    let n = crate::sh::num_coeffs(lmax);
-    let mut data = pseudo_random(n * n * 16, seed);
-    for (k, x) in data.iter_mut().enumerate() {
-        let (jo, ji, po, pi) = (k / (16 * n), (k / 16) % n, (k / 4) % 4, k % 4);
-        if (jo < 4 && (po == 1 || po == 2)) || (ji < 4 && (pi == 1 || pi == 2)) {
-            *x = 0.0;
-        }
-    }
-    crate::polarized::PshMatrix::from_data(lmax, data)
 }

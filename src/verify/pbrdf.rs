@@ -11,8 +11,8 @@ use crate::geometry::frame::Frame;
 use crate::io::npz::{read_isotropic_npz, read_psh_npz, write_psh_npz};
 use crate::optics::{Channel, Conductor, Material, PolarizedPlastic};
 use crate::polarized::{
-    isotropic_pairs, project_operator, Codomain, FieldArgument, IsotropicMatrix, PshEvaluator,
-    PshVector, SpinBlock22,
+    in_index_set, isotropic_pairs, project_operator, Codomain, FieldArgument, IsotropicMatrix,
+    PshEvaluator, PshVector, SpinBlock22,
 };
 use crate::sh::grid::GaussLegendre;
 use crate::sh::{lm_index, lm_of_index, num_coeffs};
@@ -108,7 +108,7 @@ pub fn isobi2_index(li: usize, lo: usize, mi: i64, mo: i64) -> usize {
 
 /// A value for each entry, distinct across entries and channels (zero outside PSH (31)).
 fn distinct_entry(c: usize, jo: usize, ji: usize, po: usize, pi: usize) -> f64 {
-    if (jo < 4 && (po == 1 || po == 2)) || (ji < 4 && (pi == 1 || pi == 2)) {
+    if !(in_index_set(jo, po) && in_index_set(ji, pi)) {
         0.0
     } else {
         1.0 + (((c * 1000 + jo) * 1000 + ji) * 16 + po * 4 + pi) as f64
@@ -283,7 +283,7 @@ fn horizon_measured() -> Result<f64> {
 /// `n` pairs of directions on the upper hemisphere (deterministic, polar angles up to 85
 /// degrees).
 fn hemisphere_pairs(n: usize) -> Vec<([f64; 3], [f64; 3])> {
-    let r = super::pseudo_random(4 * n, 223);
+    let r = crate::random::pseudo_random(4 * n, 223);
     let dir = |a: f64, b: f64| {
         let theta = (a + 1.0) * 0.5 * 85f64.to_radians();
         crate::sh::harmonics::direction(theta, b * PI)
@@ -364,7 +364,7 @@ fn dop_analytic() -> Result<f64> {
     for field in analytic_models()? {
         for (k, (wi, wo)) in hemisphere_pairs(200).into_iter().enumerate() {
             let m = field.transform(wi, wo)?.matrix().matrix();
-            let a = super::pseudo_random(2, 300 + k as u64);
+            let a = crate::random::pseudo_random(2, 300 + k as u64);
             // A fully polarized input: s0 = 1 on the Poincare sphere at (chi, psi).
             let (chi, psi) = (a[0] * PI / 4.0, a[1] * PI / 2.0);
             let s = nalgebra::Vector4::new(

@@ -1,12 +1,13 @@
 //! Checks of the polarized SH (`psh::polarized`).
 
-use super::{random_psh, Check};
+use super::Check;
 use crate::error::Result;
 use crate::geometry::frame::ThetaPhiFrameField;
 use crate::polarized::figure10::{off_block_fraction, rotation_coefficient_matrix, LinearBasis};
 use crate::polarized::{Codomain, PshRotation, PshTransform};
 use crate::sh::num_coeffs;
 use crate::sh::wigner::rotation_from_rotvec;
+use crate::testing::random_psh;
 use nalgebra::Vector3;
 use num_complex::Complex64;
 
@@ -104,7 +105,7 @@ fn field_rotation() -> Result<f64> {
     use crate::geometry::image_grid::{Equirect, PixelGrid};
     use crate::geometry::rotated::Rotated;
     use crate::stokes::{StokesComponents, StokesVector};
-    let r = super::pseudo_random(18, 71);
+    let r = crate::random::pseudo_random(18, 71);
     // A random Hermitian A.
     let b = nalgebra::Matrix3::from_fn(|i, j| Complex64::new(r[3 * i + j], r[9 + 3 * i + j]));
     let a = b + b.adjoint();
@@ -167,9 +168,8 @@ fn orthonormality() -> Result<f64> {
     // Every basis function of the index set, reconstructed on the exact grid.
     let mut basis = Vec::new();
     for i in 0..n {
-        let (l, _) = crate::sh::lm_of_index(i);
         for p in 0..4 {
-            if (p == 1 || p == 2) && l < 2 {
+            if !crate::polarized::in_index_set(i, p) {
                 continue;
             }
             let mut data = vec![0.0; n * 4];
@@ -222,7 +222,7 @@ fn travel_convention() -> Result<f64> {
     let v = random_psh(lmax, Codomain::Full, 1, 47)?;
     let t = v.converted(crate::polarized::FieldArgument::Travel);
     let mut dirs = vec![[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]];
-    let angles = super::pseudo_random(124, 53);
+    let angles = crate::random::pseudo_random(124, 53);
     for a in angles.chunks(2) {
         let (theta, phi) = (
             0.5 * std::f64::consts::PI * (a[0] + 1.0),

@@ -372,7 +372,7 @@ pub fn interpolation_slopes() -> Result<Vec<Convergence>> {
         8,
     )?;
     let (lo, hi) = ([-0.2, -0.2, -0.2], [0.2, 0.2, 0.2]);
-    let r = super::pseudo_random(3 * 64, 11);
+    let r = crate::random::pseudo_random(3 * 64, 11);
     let points: Vec<[f64; 3]> = r
         .chunks_exact(3)
         .map(|c| std::array::from_fn(|i| 0.19 * c[i]))

@@ -1,11 +1,12 @@
 //! Checks of PPRT's high orders (`psh::pprt::reflected`).
 
-use super::{random_kernel, random_psh, Check};
+use super::Check;
 use crate::error::Result;
 use crate::geometry::frame::{Frame, FrameField, ThetaPhiFrameField};
 use crate::polarized::{Codomain, KernelCoefficients, PshEvaluator, PshRotation};
 use crate::pprt::reflected::{high_order_kernel, reflected_pbrdf, reflected_radiance};
 use crate::stokes::StokesVector;
+use crate::testing::{random_kernel, random_psh};
 use nalgebra::Vector3;
 
 pub fn checks() -> Vec<Check> {

@@ -1,7 +1,8 @@
 //! Checks of the scalar SH core (`psh::sh`).
 
-use super::{pseudo_random, Check};
+use super::Check;
 use crate::error::Result;
+use crate::random::pseudo_random;
 use crate::sh::gaunt::{gaunt, real_gaunt};
 use crate::sh::grid::SphereGrid;
 use crate::sh::harmonics::{direction, direction_angles, sh_complex, sh_real, ShEvaluator};

@@ -3,9 +3,10 @@
 //! frame-free description of a partially polarized ray, `proofs/coherency.md`), and the
 //! rotator written out.
 
-use super::{pseudo_random, Check};
+use super::Check;
 use crate::error::Result;
 use crate::geometry::frame::Frame;
+use crate::random::pseudo_random;
 use crate::sh::harmonics::direction;
 use crate::stokes::{
     MuellerMatrix, MuellerTransform, Spin2StokesVector, StokesComponents, StokesVector,

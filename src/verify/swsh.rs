@@ -1,7 +1,8 @@
 //! Checks of the spin-weighted SH (`psh::swsh`).
 
-use super::{pseudo_random, Check};
+use super::Check;
 use crate::error::Result;
+use crate::random::pseudo_random;
 use crate::sh::grid::SphereGrid;
 use crate::sh::{lm_index, num_coeffs};
 use crate::swsh::transform::SpinTransform;

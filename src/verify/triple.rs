@@ -1,8 +1,9 @@
 //! Checks of the shadowed transfer by triple products (`psh::polarized::triple`).
 
-use super::{pseudo_random, Check};
+use super::Check;
 use crate::error::Result;
 use crate::polarized::{visibility_transfer, visibility_transfer_quadrature};
+use crate::random::pseudo_random;
 
 pub fn checks() -> Vec<Check> {
     vec![Check {

@@ -8,7 +8,7 @@
 use super::PolygonalLight;
 use crate::error::Result;
 use crate::lights::scene::floor_points;
-use crate::verify::pseudo_random;
+use crate::random::pseudo_random;
 
 /// Shading points and lights.
 #[derive(Clone, Debug)]
