@@ -4,11 +4,11 @@
 //! product.
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion};
+use psh::geometry::rotation_from_rotvec;
 use psh::isd::filter::sh_rotate_dot;
 use psh::isd::{DirectionSet, Isd, Pattern, PreConvolved, Profile, Sharing};
 use psh::random::pseudo_random;
 use psh::sh::num_coeffs;
-use psh::sh::wigner::rotation_from_rotvec;
 
 const ROTATIONS: usize = 10_000;
 const LMAX: [usize; 3] = [8, 16, 31];

@@ -1,9 +1,9 @@
 //! Criterion benches of PSH coefficient matrices (ids as in the issue tracker).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use psh::geometry::rotation_from_rotvec;
 use psh::optics::PolarizedPlastic;
 use psh::polarized::{project_operator, Codomain, IsotropicMatrix, SpinBlock22};
-use psh::sh::wigner::rotation_from_rotvec;
 use psh::testing::random_psh;
 
 /// Project an isotropic pBRDF (polarized plastic) to a sparse PSH matrix of l < 5 and

@@ -9,12 +9,13 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use indicatif::ProgressBar;
 use nalgebra::Vector3;
+use psh::geometry::direction_angles;
 use psh::pprt::plan::Plan;
 use psh::pprt::render::{background, primary_hits, render_frame};
 use psh::pprt::scene::{Hit, Scene};
 use psh::pprt::transfer::{precompute_planned, ray_visibility, TransferSettings, VisibilityRays};
 use psh::sh::gaunt::{GauntBasis, GauntTable};
-use psh::sh::harmonics::{direction_angles, ShEvaluator};
+use psh::sh::harmonics::ShEvaluator;
 use psh::sh::num_coeffs;
 use psh::sh::wigner::RealWignerD;
 use rayon::prelude::*;

@@ -3,9 +3,9 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use psh::geometry::frame::CubeMapFrameField;
 use psh::geometry::image_grid::{CubeCross, PixelGrid};
+use psh::geometry::rotation_from_rotvec;
 use psh::polarized::{project_cube_map, project_image, Codomain, PshEvaluator, PshRotation};
 use psh::random::pseudo_random;
-use psh::sh::wigner::rotation_from_rotvec;
 use psh::testing::random_psh;
 
 /// A 64x64x6 Stokes cube map, RGB, four components, to PSH coefficients l < 16.

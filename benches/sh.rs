@@ -1,11 +1,12 @@
 //! Criterion benches of the scalar SH core (ids as in the issue tracker).
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion};
+use psh::geometry::rotation_from_rotvec;
 use psh::random::pseudo_random;
 use psh::sh::harmonics::ShEvaluator;
 use psh::sh::num_coeffs;
 use psh::sh::transform::ShTransform;
-use psh::sh::wigner::{for_each_block, rotation_from_rotvec};
+use psh::sh::wigner::for_each_block;
 use psh::testing::random_directions;
 
 /// All complex Wigner blocks l <= L of one generic rotation, each block visited once.

@@ -25,7 +25,7 @@ mod generate {
 
     use psh::exact::solid::sh_jets;
     use psh::exact::to_sci_string;
-    use psh::sh::harmonics::direction;
+    use psh::geometry::direction;
     use rug::Float;
 
     const GENERATOR: &str = "cargo run --release --features exact --example fixtures_solid";

@@ -16,12 +16,14 @@
 //! Run with `cargo run --release --example worked_example`. Only the public API is used.
 
 use nalgebra::Vector3;
+use psh::geometry::direction;
 use psh::geometry::image_grid::{CubeCross, PixelGrid};
+use psh::geometry::rotation_from_rotvec;
 use psh::sh::grid::SphereGrid;
-use psh::sh::harmonics::{direction, ShEvaluator};
+use psh::sh::harmonics::ShEvaluator;
 use psh::sh::pixel::project_real;
 use psh::sh::transform::ShTransform;
-use psh::sh::wigner::{rotation_from_rotvec, RealWignerD};
+use psh::sh::wigner::RealWignerD;
 use psh::sh::zonal::{funk_hecke, zonal_coefficients};
 use psh::sh::{lm_index, num_coeffs};
 use std::f64::consts::PI;

@@ -12,7 +12,7 @@ pub fn random_directions(n: usize, seed: u64) -> Vec<[f64; 3]> {
     let r = pseudo_random(2 * n, seed);
     (0..n)
         .map(|k| {
-            crate::sh::harmonics::direction(
+            crate::geometry::direction(
                 (r[2 * k] + 1.0) * 0.5 * std::f64::consts::PI,
                 r[2 * k + 1] * 3.2,
             )

@@ -208,7 +208,7 @@ fn project_rotate_reconstruct_pipeline() {
         &p("b.npz"),
     ]);
     let rotated = read("b.npz");
-    let r = psh::sh::wigner::rotation_from_rotvec([0.3, -1.1, 0.7]).unwrap();
+    let r = psh::geometry::rotation_from_rotvec([0.3, -1.1, 0.7]).unwrap();
     let want = PshRotation::new(&r, lmax)
         .unwrap()
         .rotate(&projected)

@@ -3,11 +3,11 @@
 //! tables are errors.
 
 use proptest::prelude::*;
+use psh::geometry::rotation_from_rotvec;
 use psh::polarized::{
     kernel_coefficients, project_to_convolution, rotation_average, Codomain, ConvolutionKernel,
     PshRotation, PshVector,
 };
-use psh::sh::wigner::rotation_from_rotvec;
 use psh::testing::{random_psh, random_psh_matrix};
 
 fn random_kernel(lmax: usize, seed: u64) -> psh::polarized::KernelCoefficients {

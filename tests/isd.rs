@@ -4,13 +4,13 @@
 //! (`tests/verify.rs`).
 
 use proptest::prelude::*;
+use psh::geometry::direction;
+use psh::geometry::rotation_from_rotvec;
 use psh::isd::decomposition::{condition_number, transfer_matrix};
 use psh::isd::filter::spherical_light;
 use psh::isd::{DirectionSet, Isd, Pattern, PreConvolved, Profile, Sharing, MAX_LMAX};
 use psh::lights::spherical::SphericalLight;
-use psh::sh::harmonics::direction;
 use psh::sh::num_coeffs;
-use psh::sh::wigner::rotation_from_rotvec;
 use psh::verify::isd::filter_vs_wigner_error;
 use psh::Error;
 use std::f64::consts::PI;

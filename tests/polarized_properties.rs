@@ -5,8 +5,8 @@ use nalgebra::Rotation3;
 use proptest::prelude::*;
 use psh::geometry::frame::{CubeMapFrameField, Frame, FrameField, ThetaPhiFrameField};
 use psh::geometry::image_grid::CubeCross;
+use psh::geometry::rotation_from_rotvec;
 use psh::polarized::{project_image, reconstruct_image, Codomain, PshRotation, PshVector};
-use psh::sh::wigner::rotation_from_rotvec;
 
 fn rotvec() -> impl Strategy<Value = [f64; 3]> {
     prop::array::uniform3(-3.0f64..3.0)

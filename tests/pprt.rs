@@ -222,7 +222,7 @@ fn rotating_everything_together_leaves_the_image_unchanged() {
     use psh::pprt::scene::{Camera, Scene, SceneObject};
     let l = 3;
     let scene = builtin_scene(l, 24, 18).unwrap();
-    let r = psh::sh::wigner::rotation_from_rotvec([0.4, -0.9, 0.3]).unwrap();
+    let r = psh::geometry::rotation_from_rotvec([0.4, -0.9, 0.3]).unwrap();
     let cam = scene.camera();
     let p = r * nalgebra::Vector3::from(cam.position);
     let turned = Scene::new(

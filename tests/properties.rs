@@ -4,10 +4,12 @@
 use nalgebra::{Rotation3, Vector3};
 use num_complex::Complex64;
 use proptest::prelude::*;
-use psh::sh::harmonics::{direction, direction_angles, sh_real, ShEvaluator};
+use psh::geometry::rotation_from_rotvec;
+use psh::geometry::{direction, direction_angles};
+use psh::sh::harmonics::{sh_real, ShEvaluator};
 use psh::sh::num_coeffs;
 use psh::sh::transform::ShTransform;
-use psh::sh::wigner::{rotation_from_rotvec, RealWignerD, WignerD};
+use psh::sh::wigner::{RealWignerD, WignerD};
 
 fn rotvec() -> impl Strategy<Value = [f64; 3]> {
     prop::array::uniform3(-3.0f64..3.0)

@@ -4,10 +4,11 @@
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use num_complex::Complex64;
+use psh::geometry::rotation_from_rotvec;
 use psh::map::{MapLayout, StokesMap};
 use psh::polarized::{Codomain, FieldArgument, PshRotation};
 use psh::sh::harmonics::{sh_complex, sh_real};
-use psh::sh::wigner::{for_each_block, real_block, rotation_from_rotvec};
+use psh::sh::wigner::{for_each_block, real_block};
 use psh::sh::MAX_DEGREE;
 use psh::Error;
 use serde_json::json;
@@ -1116,7 +1117,7 @@ fn eval_sh_derivatives(a: &ShDerivativesArgs) -> psh::Result<serde_json::Value> 
 fn eval_legendre(a: &LegendreArgs) -> psh::Result<serde_json::Value> {
     use psh::sh::legendre::{for_each_column_accurate, Legendre, Polar};
     psh::sh::check_lmax(a.l)?;
-    psh::sh::check_theta(a.theta)?;
+    psh::geometry::check_theta(a.theta)?;
     let mut values = vec![0.0; a.l + 1];
     let mut keep = |m: usize, col: &[f64]| values[m] = col[a.l - m];
     let path = if a.fast {

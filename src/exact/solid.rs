@@ -197,7 +197,8 @@ pub fn sh_jets(lmax: usize, x: [f64; 3], prec: u32) -> Vec<Jet> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sh::harmonics::{direction, direction_angles, sh_real};
+    use crate::geometry::{direction, direction_angles};
+    use crate::sh::harmonics::sh_real;
     use crate::sh::solid::SolidHarmonics;
 
     /// Directions of the tests: poles, 1e-8 from a pole, generic.

@@ -24,8 +24,8 @@
 //!   differ by at most this much in Euclidean distance (about the angle in radians).
 
 use crate::error::{finite, Error, Result};
+use crate::geometry::check_direction;
 use crate::geometry::image_grid::{CubeCross, CubeFace};
-use crate::sh::harmonics::check_direction;
 use nalgebra::{Matrix3, Rotation3, Vector3};
 
 /// Largest deviation from orthonormality accepted by [`Frame::new`] (norms within
@@ -146,7 +146,7 @@ impl Frame {
     /// The frame with `z` the unit direction `z` and `x` the normalized component of
     /// `x_hint` orthogonal to `z`; `y = z cross x`.
     ///
-    /// Errors: `z` non-finite or not unit within `sh::harmonics::UNIT_TOLERANCE`;
+    /// Errors: `z` non-finite or not unit within [`super::UNIT_TOLERANCE`];
     /// `x_hint` non-finite, or parallel to `z` (its orthogonal part shorter than
     /// `1e-12 |x_hint|`, or zero).
     pub fn from_z_and_x(z: [f64; 3], x_hint: [f64; 3]) -> Result<Self> {
@@ -308,7 +308,7 @@ impl Frame {
 /// A frame for every direction (PSH Sec. 5.1): `frame(w)` has `z = w` (normalized).
 pub trait FrameField {
     /// The frame at the unit direction `w`. Errors: `w` non-finite or not unit within
-    /// `sh::harmonics::UNIT_TOLERANCE`.
+    /// [`super::UNIT_TOLERANCE`].
     fn frame(&self, w: [f64; 3]) -> Result<Frame>;
 }
 
@@ -336,7 +336,7 @@ where
 /// limit along the meridian `phi = 0`, i.e. `[x_g, y_g, z_g]` at the north pole and
 /// `[-x_g, y_g, -z_g]` at the south pole. This is also what the angle form
 /// [`ThetaPhiFrameField::frame_at_angles`] gives at `(0, 0)` and `(pi, 0)`, and the
-/// `phi = atan2(0, 0) = 0` of `sh::harmonics::direction_angles`. The angle form is
+/// `phi = atan2(0, 0) = 0` of [`super::direction_angles`]. The angle form is
 /// defined at the poles for every `phi` (PSH (61) uses `F_theta_phi(0, phi)`).
 /// Near a pole, `cos phi, sin phi` are taken from `(w_x, w_y)/hypot(w_x, w_y)`, exact to
 /// rounding however small `sin theta` is.
@@ -374,7 +374,7 @@ impl ThetaPhiFrameField {
     /// too) and finite `phi`. Errors: `theta` outside `[0, pi]` or non-finite; `phi`
     /// non-finite.
     pub fn frame_at_angles(&self, theta: f64, phi: f64) -> Result<Frame> {
-        crate::sh::check_theta(theta)?;
+        crate::geometry::check_theta(theta)?;
         finite("phi", phi)?;
         let (st, ct) = theta.sin_cos();
         let (sp, cp) = phi.sin_cos();
@@ -654,10 +654,10 @@ mod tests {
         let field = ThetaPhiFrameField::new();
         let h = 1e-6;
         for &(t, p) in &[(0.3, 0.2), (1.2, -2.5), (2.9, 3.0), (PI / 2.0, 1.0)] {
-            let d = |t: f64, p: f64| Vector3::from(crate::sh::harmonics::direction(t, p));
+            let d = |t: f64, p: f64| Vector3::from(crate::geometry::direction(t, p));
             let dt = (d(t + h, p) - d(t - h, p)) / (2.0 * h);
             let dp = (d(t, p + h) - d(t, p - h)) / (2.0 * h) / t.sin();
-            let f = field.frame(crate::sh::harmonics::direction(t, p)).unwrap();
+            let f = field.frame(crate::geometry::direction(t, p)).unwrap();
             assert!((f.x() - dt).norm() < 1e-9, "{t} {p}");
             assert!((f.y() - dp).norm() < 1e-9, "{t} {p}");
             let g = field.frame_at_angles(t, p).unwrap();
@@ -694,7 +694,7 @@ mod tests {
         let r = Rotation3::from_axis_angle(&Vector3::y_axis(), PI / 2.0);
         let g = Frame::from_rotation(&r).unwrap();
         let field = ThetaPhiFrameField::with_global(g);
-        let w0 = Vector3::from(crate::sh::harmonics::direction(0.8, 2.0));
+        let w0 = Vector3::from(crate::geometry::direction(0.8, 2.0));
         let w = r * w0;
         let f = field.frame(arr(&w)).unwrap();
         let f0 = ThetaPhiFrameField::new()

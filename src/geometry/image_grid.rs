@@ -45,7 +45,7 @@ pub trait PixelGrid {
     /// direction; grids of constant-theta rows give the row's exact angle, so that
     /// texels of one row share it bit for bit). Error: a texel without a direction.
     fn angles(&self, i: usize) -> Result<(f64, f64)> {
-        crate::sh::harmonics::direction_angles(self.direction(i))
+        crate::geometry::direction_angles(self.direction(i))
     }
 }
 
@@ -229,7 +229,7 @@ impl PixelGrid for Equirect {
 
     fn direction(&self, i: usize) -> [f64; 3] {
         let (theta, phi) = self.cell_centre(i);
-        crate::sh::harmonics::direction(theta, phi)
+        crate::geometry::direction(theta, phi)
     }
 
     fn angles(&self, i: usize) -> Result<(f64, f64)> {

@@ -1,5 +1,13 @@
 //! Geometry: directions, frames and pixel grids on the sphere.
 
+pub mod direction;
 pub mod frame;
 pub mod image_grid;
 pub mod rotated;
+pub mod rotation;
+
+pub use direction::{
+    check_direction, check_theta, direction, direction_angles, fibonacci_directions,
+    fibonacci_point, GOLDEN_ANGLE, UNIT_TOLERANCE,
+};
+pub use rotation::{euler_zyz, rotation_from_rotvec};

@@ -48,7 +48,7 @@ impl<G: PixelGrid> PixelGrid for Rotated<G> {
 
 impl<F: FrameField> FrameField for Rotated<F> {
     fn frame(&self, u: [f64; 3]) -> Result<Frame> {
-        crate::sh::harmonics::check_direction(u)?;
+        crate::geometry::check_direction(u)?;
         self.inner
             .frame(apply(&self.q.inverse(), u))?
             .rotated(&self.q)

@@ -17,12 +17,12 @@
 use super::io_error;
 use super::plot::{LinePlot, Series};
 use crate::error::Result;
+use crate::geometry::rotation_from_rotvec;
 use crate::isd::decomposition::{condition_number, transfer_matrix};
 use crate::isd::filter::sh_rotate_dot;
 use crate::isd::{DirectionSet, Isd, Pattern, PreConvolved, Profile, Sharing};
 use crate::random::pseudo_random;
 use crate::sh::num_coeffs;
-use crate::sh::wigner::rotation_from_rotvec;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;

@@ -5,7 +5,8 @@ use super::directions::DirectionSet;
 use super::pi_l;
 use super::profiles::Profile;
 use crate::error::{check_len, Error, Result};
-use crate::sh::harmonics::{check_direction, ShEvaluator};
+use crate::geometry::check_direction;
+use crate::sh::harmonics::ShEvaluator;
 use crate::sh::{lm_of_index, num_coeffs};
 use nalgebra::{DMatrix, DVector, Dyn, LU};
 

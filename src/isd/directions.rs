@@ -3,13 +3,10 @@
 //! `z_{l+1}^m = z_l^m`: band `l` uses the first `2l + 1` of `2L + 1` directions).
 
 use crate::error::{check_len, Error, Result};
-use crate::sh::harmonics::{check_direction, direction};
+use crate::geometry::{check_direction, direction, fibonacci_point, GOLDEN_ANGLE};
 use crate::sh::num_coeffs;
 use nalgebra::{Rotation3, Vector3};
 use std::f64::consts::PI;
-
-/// The golden angle `pi (3 - sqrt 5)`.
-const GOLDEN_ANGLE: f64 = 2.399_963_229_728_653;
 
 /// A low-discrepancy point pattern on the sphere.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -57,24 +54,12 @@ impl Pattern {
             offset as f64 * GOLDEN_ANGLE,
         );
         (0..n)
-            .map(|k| {
-                let (z, phi): (f64, f64) = match self {
-                    Pattern::Fibonacci => (
-                        1.0 - (2 * k + 1) as f64 / (n + 1) as f64,
-                        k as f64 * GOLDEN_ANGLE,
-                    ),
-                    Pattern::Halton => {
-                        let i = offset + k + 1;
-                        (
-                            1.0 - 2.0 * radical_inverse(i, 2),
-                            2.0 * PI * radical_inverse(i, 3),
-                        )
-                    }
-                };
-                let w = direction(z.clamp(-1.0, 1.0).acos(), phi);
-                match self {
-                    Pattern::Fibonacci => (turn * Vector3::from(w)).into(),
-                    Pattern::Halton => w,
+            .map(|k| match self {
+                Pattern::Fibonacci => (turn * Vector3::from(fibonacci_point(k, n + 1))).into(),
+                Pattern::Halton => {
+                    let i = offset + k + 1;
+                    let z: f64 = 1.0 - 2.0 * radical_inverse(i, 2);
+                    direction(z.clamp(-1.0, 1.0).acos(), 2.0 * PI * radical_inverse(i, 3))
                 }
             })
             .collect()

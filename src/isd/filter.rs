@@ -12,8 +12,10 @@ use super::decomposition::Isd;
 use super::pi_l;
 use super::profiles::Profile;
 use crate::error::{check_len, Error, Result};
-use crate::lights::spherical::{cap_of, legendre_and_derivative, SphericalLight};
-use crate::sh::harmonics::{check_direction, ShEvaluator};
+use crate::geometry::check_direction;
+use crate::lights::spherical::{cap_of, SphericalLight};
+use crate::sh::harmonics::ShEvaluator;
+use crate::sh::legendre::legendre_polynomials;
 use crate::sh::num_coeffs;
 use crate::sh::wigner::RealWignerD;
 use nalgebra::{DMatrix, Rotation3, Vector3};
@@ -144,7 +146,7 @@ pub fn spherical_light(
         }
     }
     let dirs = isd.directions().distinct();
-    let (mut p, mut dp) = (vec![0.0; lmax + 1], vec![0.0; lmax + 1]);
+    let mut p = vec![0.0; lmax + 1];
     Ok(rotations
         .iter()
         .map(|r| {
@@ -154,7 +156,7 @@ pub fn spherical_light(
                 .zip(folded.chunks_exact(lmax + 1))
                 .map(|(z, row)| {
                     let t = (zr[0] * z[0] + zr[1] * z[1] + zr[2] * z[2]).clamp(-1.0, 1.0);
-                    legendre_and_derivative(t, &mut p, &mut dp);
+                    legendre_polynomials(t, &mut p, None);
                     row.iter().zip(&p).map(|(a, b)| a * b).sum::<f64>()
                 })
                 .sum()

@@ -3,7 +3,7 @@
 
 use super::pi_l;
 use crate::error::Result;
-use crate::lights::spherical::legendre_and_derivative;
+use crate::sh::legendre::legendre_polynomials;
 use crate::sh::zonal::zonal_coefficients;
 use nalgebra::DMatrix;
 
@@ -48,13 +48,11 @@ impl Profile {
 
     /// `g_l(t)` for all `l <= lmax` into `out` (length `lmax + 1`), `t` in `[-1, 1]`.
     pub fn values(self, t: f64, out: &mut [f64]) {
-        let n = out.len();
-        let mut dp = vec![0.0; n];
         if matches!(
             self,
             Profile::Zonal | Profile::Legendre | Profile::GaussLegendre
         ) {
-            legendre_and_derivative(t, out, &mut dp);
+            legendre_polynomials(t, out, None);
         }
         for (l, g) in out.iter_mut().enumerate() {
             let l2 = (l * l) as f64;

@@ -19,6 +19,7 @@
 //! SHH (6)) and `H_x = H_d`.
 
 use crate::error::{finite, Error, Result};
+use crate::sh::legendre::legendre_polynomials;
 use crate::sh::num_coeffs;
 use crate::sh::solid::{SolidHarmonics, HESSIAN_ENTRIES};
 use std::f64::consts::PI;
@@ -215,7 +216,7 @@ impl SphericalLights {
         let sin_a = r / dist;
         let sin2 = sin_a * sin_a;
         let alpha = ((dist - r) * (dist + r)).sqrt() / dist;
-        legendre_and_derivative(alpha, &mut work.p, &mut work.dp);
+        legendre_polynomials(alpha, &mut work.p, Some(&mut work.dp));
         let e = light.radiance;
         let inv = 1.0 / dist;
         for l in 0..=self.lmax() {
@@ -279,7 +280,7 @@ pub fn cap_of(light: &SphericalLight, x: [f64; 3], zonal: &mut [f64]) -> Result<
     let alpha = ((dist - r) * (dist + r)).sqrt() / dist;
     let n = zonal.len();
     let (mut p, mut dp) = (vec![0.0; n], vec![0.0; n]);
-    legendre_and_derivative(alpha, &mut p, &mut dp);
+    legendre_polynomials(alpha, &mut p, Some(&mut dp));
     for (l, z) in zonal.iter_mut().enumerate() {
         *z = light.radiance * cap_zonal(l, sin2, alpha, dp[l]);
     }
@@ -293,27 +294,6 @@ impl super::grid::LightSource for SphericalLights {
 
     fn field(&self, x: [f64; 3], order: Order) -> Result<LightField> {
         SphericalLights::field(self, x, order)
-    }
-}
-
-/// `P_l(t)` and `P_l'(t)`, `l < p.len()`, by Bonnet's recurrence and
-/// `P_{l+1}' = P_{l-1}' + (2l+1) P_l` (DLMF 14.10.3, 14.10.4 at `m = 0`); `|t| <= 1`.
-pub fn legendre_and_derivative(t: f64, p: &mut [f64], dp: &mut [f64]) {
-    let n = p.len().min(dp.len());
-    for l in 0..n {
-        let (pl, dl) = match l {
-            0 => (1.0, 0.0),
-            1 => (t, 1.0),
-            _ => {
-                let lf = l as f64;
-                (
-                    ((2.0 * lf - 1.0) * t * p[l - 1] - (lf - 1.0) * p[l - 2]) / lf,
-                    dp[l - 2] + (2.0 * lf - 1.0) * p[l - 1],
-                )
-            }
-        };
-        p[l] = pl;
-        dp[l] = dl;
     }
 }
 

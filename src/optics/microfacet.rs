@@ -5,8 +5,8 @@ use super::fresnel::FresnelCoefficients;
 use super::ggx::Ggx;
 use super::ior::ComplexIor;
 use crate::error::Result;
+use crate::geometry::check_direction;
 use crate::geometry::frame::Frame;
-use crate::sh::harmonics::check_direction;
 use crate::stokes::{MuellerField, MuellerMatrix, MuellerTransform};
 use nalgebra::{Matrix4, Vector3};
 

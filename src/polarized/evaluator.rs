@@ -5,8 +5,9 @@
 
 use super::PshVector;
 use crate::error::{Error, Result};
+use crate::geometry::direction_angles;
 use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
-use crate::sh::harmonics::{direction_angles, ShEvaluator};
+use crate::sh::harmonics::ShEvaluator;
 use crate::sh::num_coeffs;
 use crate::stokes::{StokesComponents, StokesVector};
 use crate::swsh::transform::SpinEvaluator;

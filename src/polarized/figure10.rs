@@ -14,8 +14,9 @@
 //! `polarized.spin2_block_diagonal`).
 
 use crate::error::Result;
+use crate::geometry::direction_angles;
 use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
-use crate::sh::harmonics::{direction_angles, sh_complex};
+use crate::sh::harmonics::sh_complex;
 use crate::sh::num_coeffs;
 use crate::sh::transform::ShTransform;
 use crate::stokes::{StokesComponents, StokesVector};

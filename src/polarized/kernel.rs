@@ -4,8 +4,8 @@
 //! through both, and the convolution it defines in the angular domain (PSH (63)).
 
 use crate::error::{Error, Result};
+use crate::geometry::check_direction;
 use crate::geometry::frame::Frame;
-use crate::sh::harmonics::check_direction;
 use crate::stokes::{MuellerField, MuellerMatrix, MuellerTransform};
 use nalgebra::Vector3;
 use std::f64::consts::PI;

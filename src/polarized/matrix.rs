@@ -284,7 +284,7 @@ impl MatrixKernel<'_> {
     /// The PSH basis Stokes vectors `Y_{j p}(w)` (PSH (29)), `[j * 4 + p]`.
     fn basis(&self, w: [f64; 3]) -> Result<Vec<[f64; 4]>> {
         let lmax = self.0.lmax;
-        let (t, p) = crate::sh::harmonics::direction_angles(w)?;
+        let (t, p) = crate::geometry::direction_angles(w)?;
         let yr = crate::sh::harmonics::sh_real(lmax, t, p)?;
         let y2 = if lmax >= 2 {
             crate::swsh::swsh(2, lmax, t, p)?

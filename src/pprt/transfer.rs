@@ -13,6 +13,7 @@
 use super::plan::{Plan, Visibility};
 use super::scene::Scene;
 use crate::error::{Error, Result};
+use crate::geometry::fibonacci_directions;
 use crate::geometry::frame::Frame;
 use crate::polarized::{PshRotation, PshVector, TripleTable};
 use crate::sh::harmonics::ShEvaluator;
@@ -46,19 +47,6 @@ pub struct VertexTransfer {
     /// Outgoing radiance (RGB, `s0..s3`, `l <= l_low`, indexed by the direction of
     /// travel) in the shading frame.
     pub radiance: PshVector,
-}
-
-/// The `n` Fibonacci directions on the sphere (quasi-uniform, equal weights `4 pi / n`).
-pub fn fibonacci_directions(n: usize) -> Vec<[f64; 3]> {
-    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    (0..n)
-        .map(|k| {
-            let z = 1.0 - (2 * k + 1) as f64 / n as f64;
-            let r = (1.0 - z * z).sqrt();
-            let p = golden * k as f64;
-            [r * p.cos(), r * p.sin(), z]
-        })
-        .collect()
 }
 
 impl TransferSettings {

@@ -83,22 +83,17 @@ impl GaussLegendre {
     }
 }
 
-/// `P_n(cos t)` and `d/dt P_n(cos t) = n (cos t P_n - P_{n-1}) / sin t` by the
-/// three-term recurrence (DLMF 18.9.1, 18.9.17).
+/// `P_n(cos t)` and `d/dt P_n(cos t) = n (cos t P_n - P_{n-1}) / sin t` (DLMF 18.9.17),
+/// `P_n` by [`super::legendre::legendre_polynomials`].
 fn legendre_p_and_dtheta(n: usize, t: f64) -> (f64, f64) {
-    let (s, x) = t.sin_cos();
-    let (mut p0, mut p1) = (1.0, x);
-    for k in 2..=n {
-        let kf = k as f64;
-        let p2 = ((2.0 * kf - 1.0) * x * p1 - (kf - 1.0) * p0) / kf;
-        p0 = p1;
-        p1 = p2;
-    }
     if n == 0 {
         return (1.0, 0.0);
     }
+    let (s, x) = t.sin_cos();
+    let mut p = vec![0.0; n + 1];
+    super::legendre::legendre_polynomials(x, &mut p, None);
     // (x^2 - 1) = -sin^2 t, written so to keep its relative accuracy near the poles.
-    (p1, n as f64 * (x * p1 - p0) / s)
+    (p[n], n as f64 * (x * p[n] - p[n - 1]) / s)
 }
 
 /// The product grid: Gauss-Legendre rings times `n_phi` equispaced meridians
@@ -193,7 +188,7 @@ impl SphereGrid {
     /// Unit direction of point `i`, or an error past the last point.
     pub fn direction(&self, i: usize) -> Result<[f64; 3]> {
         let (t, p) = self.angles(i)?;
-        Ok(super::harmonics::direction(t, p))
+        Ok(crate::geometry::direction(t, p))
     }
 
     /// Integral of sampled values (ring-major) by the rule.

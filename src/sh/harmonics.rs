@@ -7,25 +7,11 @@
 //! Values are stored in flat order `l*l + l + m` ([`super::lm_index`]).
 
 use super::legendre::{for_each_column_accurate, Legendre, Polar};
-use super::{check_theta, lm_index, num_coeffs};
-use crate::error::{check_len, finite, Error, Result};
+use super::{lm_index, num_coeffs};
+use crate::error::{check_len, finite, Result};
+use crate::geometry::{check_direction, check_theta, direction_angles, UNIT_TOLERANCE};
 use num_complex::Complex64;
 use std::f64::consts::SQRT_2;
-
-/// Tolerance on `|w| - 1` for a direction to count as a unit vector.
-pub const UNIT_TOLERANCE: f64 = 1e-10;
-
-/// Checks a direction: finite components and unit norm within [`UNIT_TOLERANCE`].
-pub fn check_direction(w: [f64; 3]) -> Result<[f64; 3]> {
-    for &c in &w {
-        finite("direction component", c)?;
-    }
-    let norm = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
-    if (norm - 1.0).abs() > UNIT_TOLERANCE {
-        return Err(Error::NonUnitDirection { value: w, norm });
-    }
-    Ok(w)
-}
 
 /// Entry `U_{m mu}` of the unitary complex-to-real change of basis of PSH (12):
 /// `Y^R_{lm} = sum_mu U_{m mu} Y_{l mu}`; nonzero only for `mu = ±m`.
@@ -320,24 +306,10 @@ pub fn sh_real(lmax: usize, theta: f64, phi: f64) -> Result<Vec<f64>> {
     Ok(out)
 }
 
-/// Spherical angles `(theta, phi)` of a unit direction (theta from +z, phi from +x
-/// towards +y, in `(-pi, pi]`).
-pub fn direction_angles(w: [f64; 3]) -> Result<(f64, f64)> {
-    check_direction(w)?;
-    let rho = w[0].hypot(w[1]);
-    Ok((rho.atan2(w[2]), w[1].atan2(w[0])))
-}
-
-/// The unit direction of spherical angles `(theta, phi)`.
-pub fn direction(theta: f64, phi: f64) -> [f64; 3] {
-    let (st, ct) = theta.sin_cos();
-    let (sp, cp) = phi.sin_cos();
-    [st * cp, st * sp, ct]
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::direction;
     use std::f64::consts::PI;
 
     /// PSH (12) against its complex form, and Y_{l,-m} = (-1)^m conj(Y_lm).

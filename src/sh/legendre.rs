@@ -27,8 +27,9 @@
 //! of the order of the rounding of the other terms and its effect, amplified like `l^2`,
 //! is lost; measured in `psh verify` (`sh.fast_path_l2048`, `sh.band_norm_l2048`).
 
-use super::{check_lmax, check_theta};
+use super::check_lmax;
 use crate::error::Result;
+use crate::geometry::check_theta;
 use std::ops::{Mul, Sub};
 use twofloat::TwoFloat;
 
@@ -207,6 +208,27 @@ fn walk_columns<T: Arith>(
 /// times) but accurate to a few `1e-15` at any degree up to [`super::MAX_DEGREE`].
 pub fn for_each_column_accurate(lmax: usize, polar: Polar, f: impl FnMut(usize, &[f64])) {
     columns_accurate(lmax, lmax, polar, f)
+}
+
+/// `P_l(t)` for `l < p.len()` by Bonnet's recurrence (DLMF 14.10.3 at `m = 0`) and, when
+/// `dp` is given (of the same length), `P_l'(t)` by `P_{l+1}' = P_{l-1}' + (2l+1) P_l`
+/// (DLMF 14.10.4 at `m = 0`); `|t| <= 1`.
+pub fn legendre_polynomials(t: f64, p: &mut [f64], mut dp: Option<&mut [f64]>) {
+    for l in 0..p.len() {
+        let lf = l as f64;
+        p[l] = match l {
+            0 => 1.0,
+            1 => t,
+            _ => ((2.0 * lf - 1.0) * t * p[l - 1] - (lf - 1.0) * p[l - 2]) / lf,
+        };
+        if let Some(dp) = dp.as_deref_mut() {
+            dp[l] = match l {
+                0 => 0.0,
+                1 => 1.0,
+                _ => dp[l - 2] + (2.0 * lf - 1.0) * p[l - 1],
+            };
+        }
+    }
 }
 
 /// `Pbar_l0(theta)`, `l <= lmax`, by the accurate path (column `m = 0` only).

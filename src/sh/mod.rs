@@ -79,19 +79,6 @@ pub fn check_lm(l: i64, m: i64) -> Result<()> {
     Ok(())
 }
 
-/// Checks a polar angle: finite and in `[0, pi]`.
-pub fn check_theta(theta: f64) -> Result<f64> {
-    crate::error::finite("theta", theta)?;
-    if !(0.0..=std::f64::consts::PI).contains(&theta) {
-        return Err(Error::InvalidArgument {
-            name: "theta",
-            value: theta.to_string(),
-            reason: "the polar angle must lie in [0, pi]".into(),
-        });
-    }
-    Ok(theta)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -25,10 +25,10 @@
 //! three-term recurrence in `l` as the normalized Legendre functions, SHH (13) scaled by
 //! `K_lm`), so no factorial grows: values stay finite for `l <= SOLID_MAX_DEGREE`.
 
-use super::harmonics::check_direction;
 use super::legendre::diagonal_factor;
 use super::num_coeffs;
 use crate::error::{check_len, Result};
+use crate::geometry::check_direction;
 use rayon::prelude::*;
 use std::f64::consts::{PI, SQRT_2};
 
@@ -227,7 +227,7 @@ impl SolidHarmonics {
 
     /// [`Self::eval`] at many unit directions: row `i` of each output (length
     /// `(lmax + 1)^2`) belongs to `dirs[i]`. Directions must be finite with
-    /// `| |w| - 1 | <= 1e-10` ([`super::harmonics::UNIT_TOLERANCE`]); they are
+    /// `| |w| - 1 | <= 1e-10` ([`crate::geometry::UNIT_TOLERANCE`]); they are
     /// normalized before use, so the derivatives are those at `w / |w|`.
     pub fn eval_batch(
         &self,
@@ -505,7 +505,8 @@ pub fn sh_derivatives(lmax: usize, w: [f64; 3]) -> Result<Derivatives> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sh::harmonics::{direction, direction_angles, sh_real};
+    use crate::geometry::{direction, direction_angles};
+    use crate::sh::harmonics::sh_real;
     use crate::sh::lm_index;
 
     fn dirs() -> Vec<[f64; 3]> {

@@ -18,9 +18,10 @@
 pub mod transform;
 
 use crate::error::{finite, Error, Result};
+use crate::geometry::check_theta;
 use crate::sh::harmonics::{cis_m, sh_complex};
 use crate::sh::wigner::SmallDRecursion;
-use crate::sh::{check_lmax, check_theta, lm_index, num_coeffs};
+use crate::sh::{check_lmax, lm_index, num_coeffs};
 use num_complex::Complex64;
 use std::f64::consts::PI;
 

@@ -788,7 +788,7 @@ impl SpinEvaluator {
     /// `sY_lm(theta, phi)` for all `l <= lmax` in flat order (zeros where `l < |s|`), into
     /// `out` of length `(lmax+1)^2`: `O(lmax^2)`, against `O(lmax^3)` for [`crate::swsh::swsh`].
     pub fn values(&self, theta: f64, phi: f64, out: &mut [Complex64]) -> Result<()> {
-        crate::sh::check_theta(theta)?;
+        crate::geometry::check_theta(theta)?;
         crate::error::finite("phi", phi)?;
         check_len("spin SH output", num_coeffs(self.lmax), out.len())?;
         out.fill(Complex64::default());

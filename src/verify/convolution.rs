@@ -135,7 +135,7 @@ fn kernel_frames() -> Result<f64> {
         // whose rounding grows like eps / sin theta: the error is weighed by sin theta.
         let weight = theta.sin() / want.amax();
         worst = worst.max((got - want).amax() * weight);
-        let q = crate::sh::wigner::rotation_from_rotvec([3.0 * r[2], 3.0 * r[3], 3.0 * r[4]])?;
+        let q = crate::geometry::rotation_from_rotvec([3.0 * r[2], 3.0 * r[3], 3.0 * r[4]])?;
         let (g0, g1) = (f0.rotated(&q)?, f1.rotated(&q)?);
         let got = kernel
             .transform(rot(&f0.z(), &q), rot(&f1.z(), &q))?

@@ -2,14 +2,15 @@
 
 use super::Check;
 use crate::error::Result;
+use crate::geometry::direction_angles;
+use crate::geometry::rotation_from_rotvec;
 use crate::isd::filter::{sh_rotate_dot, spherical_light};
 use crate::isd::{pi_l, DirectionSet, Isd, Pattern, PreConvolved, Profile, Sharing};
 use crate::lights::spherical::{Order, SphericalLight, SphericalLights};
 use crate::random::pseudo_random;
-use crate::sh::harmonics::{direction_angles, sh_real};
+use crate::sh::harmonics::sh_real;
 use crate::sh::num_coeffs;
 use crate::sh::transform::ShTransform;
-use crate::sh::wigner::rotation_from_rotvec;
 use crate::testing::random_directions;
 
 pub fn checks() -> Vec<Check> {
@@ -291,15 +292,10 @@ fn jacobi_eigenvalues(mut a: nalgebra::DMatrix<f64>) -> Vec<f64> {
     (0..n).map(|i| a[(i, i)]).collect()
 }
 
-/// `P_l(t)` for `l <= lmax` (Bonnet's recurrence).
+/// `P_l(t)` for `l <= lmax`.
 fn legendre(lmax: usize, t: f64) -> Vec<f64> {
-    let mut p = vec![1.0; lmax + 1];
-    if lmax >= 1 {
-        p[1] = t;
-    }
-    for l in 2..=lmax {
-        p[l] = ((2 * l - 1) as f64 * t * p[l - 1] - (l - 1) as f64 * p[l - 2]) / l as f64;
-    }
+    let mut p = vec![0.0; lmax + 1];
+    crate::sh::legendre::legendre_polynomials(t, &mut p, None);
     p
 }
 

@@ -159,7 +159,7 @@ impl<F: MuellerField> MuellerField for Rotated<'_, F> {
 
 fn rotation_to_normal() -> Result<f64> {
     let m = random_psh_matrix(3, 89)?;
-    let r = crate::sh::wigner::rotation_from_rotvec([0.4, -1.3, 0.8])?;
+    let r = crate::geometry::rotation_from_rotvec([0.4, -1.3, 0.8])?;
     let rotated = m.rotated(&r)?;
     let direct = project_operator(
         &Rotated(&MatrixKernel(&m), r),

@@ -286,7 +286,7 @@ fn hemisphere_pairs(n: usize) -> Vec<([f64; 3], [f64; 3])> {
     let r = crate::random::pseudo_random(4 * n, 223);
     let dir = |a: f64, b: f64| {
         let theta = (a + 1.0) * 0.5 * 85f64.to_radians();
-        crate::sh::harmonics::direction(theta, b * PI)
+        crate::geometry::direction(theta, b * PI)
     };
     r.chunks_exact(4)
         .map(|c| (dir(c[0], c[1]), dir(c[2], c[3])))

@@ -3,10 +3,10 @@
 use super::Check;
 use crate::error::Result;
 use crate::geometry::frame::ThetaPhiFrameField;
+use crate::geometry::rotation_from_rotvec;
 use crate::polarized::figure10::{off_block_fraction, rotation_coefficient_matrix, LinearBasis};
 use crate::polarized::{Codomain, PshRotation, PshTransform};
 use crate::sh::num_coeffs;
-use crate::sh::wigner::rotation_from_rotvec;
 use crate::testing::random_psh;
 use nalgebra::Vector3;
 use num_complex::Complex64;
@@ -228,7 +228,7 @@ fn travel_convention() -> Result<f64> {
             0.5 * std::f64::consts::PI * (a[0] + 1.0),
             std::f64::consts::PI * a[1],
         );
-        dirs.push(crate::sh::harmonics::direction(theta, phi));
+        dirs.push(crate::geometry::direction(theta, phi));
     }
     let (mut worst, mut scale) = (0.0f64, 0.0f64);
     for u in dirs {

@@ -2,13 +2,15 @@
 
 use super::Check;
 use crate::error::Result;
+use crate::geometry::rotation_from_rotvec;
+use crate::geometry::{direction, direction_angles};
 use crate::random::pseudo_random;
 use crate::sh::gaunt::{gaunt, real_gaunt};
 use crate::sh::grid::SphereGrid;
-use crate::sh::harmonics::{direction, direction_angles, sh_complex, sh_real, ShEvaluator};
+use crate::sh::harmonics::{sh_complex, sh_real, ShEvaluator};
 use crate::sh::legendre::{legendre_all, tri_index, zonal_legendre, Legendre, Polar};
 use crate::sh::transform::ShTransform;
-use crate::sh::wigner::{for_each_block, rotation_from_rotvec, RealWignerD, WignerD};
+use crate::sh::wigner::{for_each_block, RealWignerD, WignerD};
 use crate::sh::zonal::{funk_hecke, rotated_zonal_real, zonal_coefficients};
 use crate::sh::{lm_index, num_coeffs};
 use nalgebra::{Rotation3, Vector3};

@@ -3,7 +3,8 @@
 
 use super::Check;
 use crate::error::Result;
-use crate::sh::harmonics::{direction, direction_angles, sh_real};
+use crate::geometry::{direction, direction_angles};
+use crate::sh::harmonics::sh_real;
 use crate::sh::solid::{hessian_index, SolidHarmonics};
 
 pub fn checks() -> Vec<Check> {

@@ -5,9 +5,9 @@
 
 use super::Check;
 use crate::error::Result;
+use crate::geometry::direction;
 use crate::geometry::frame::Frame;
 use crate::random::pseudo_random;
-use crate::sh::harmonics::direction;
 use crate::stokes::{
     MuellerMatrix, MuellerTransform, Spin2StokesVector, StokesComponents, StokesVector,
 };

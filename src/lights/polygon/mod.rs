@@ -225,7 +225,7 @@ impl PolygonalLights {
         for &c in &normal {
             finite("horizon normal", c)?;
         }
-        crate::sh::harmonics::check_direction(normal)?;
+        crate::geometry::check_direction(normal)?;
         self.horizon = Some(normal);
         Ok(self)
     }
