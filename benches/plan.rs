@@ -7,13 +7,13 @@
 //! is the same with everything computed ([`Plan::full`]): the saving.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use indicatif::ProgressBar;
 use nalgebra::Vector3;
 use psh::geometry::direction_angles;
 use psh::pprt::plan::Plan;
 use psh::pprt::render::{background, primary_hits, render_frame};
 use psh::pprt::scene::{Hit, Scene};
-use psh::pprt::transfer::{precompute_planned, ray_visibility, TransferSettings, VisibilityRays};
+use psh::pprt::transfer::{precompute_planned, ray_visibility, VisibilityRays};
+use psh::pprt::TransferSettings;
 use psh::sh::gaunt::{GauntBasis, GauntTable};
 use psh::sh::harmonics::ShEvaluator;
 use psh::sh::num_coeffs;
@@ -25,7 +25,7 @@ const SETTINGS: TransferSettings = TransferSettings {
     l_low: 6,
     l_high: 0,
     rays: 64,
-    shadows: true,
+    visibility: psh::pprt::Visibility::Rays,
 };
 
 /// Scalar PRT of `scene`: per vertex the ray-cast visibility's Gaunt product with the
@@ -96,9 +96,9 @@ fn scalar_only(scene: &Scene, blocks: &[Vec<Vec<f64>>], hits: &[Option<Hit>]) ->
 }
 
 fn plan(c: &mut Criterion) {
-    let scene = psh::pprt::job::builtin_unpolarized_scene(SETTINGS.l_low, 96, 72).unwrap();
+    let scene = psh::pprt::builtin::builtin_unpolarized_scene(SETTINGS.l_low, 96, 72).unwrap();
     let t0 = Instant::now();
-    let plan = Plan::new(&scene, SETTINGS, 1e-3).unwrap();
+    let plan = Plan::new(&scene, SETTINGS, psh::pprt::Planning::Tolerance(1e-3)).unwrap();
     eprintln!(
         "plan/unpolarized_scene: plan built in {:.3} s: {:?}",
         t0.elapsed().as_secs_f64(),
@@ -118,7 +118,7 @@ fn plan(c: &mut Criterion) {
         .collect();
     let hits = primary_hits(&scene);
     let bg = background(&scene, &hits).unwrap();
-    let hidden = ProgressBar::hidden();
+    let hidden = psh::progress::Silent;
     let planned = || {
         let t = precompute_planned(&scene, &plan, &hidden).unwrap();
         render_frame(&scene, &t, &plan.high_fields(), &hits, &bg).unwrap()
@@ -141,7 +141,7 @@ fn plan(c: &mut Criterion) {
         bch.iter(|| scalar_only(&scene, &blocks, &hits))
     });
     // The saving: everything computed (s0..s3, dense storage).
-    let full = Plan::full(&scene, SETTINGS).unwrap();
+    let full = Plan::new(&scene, SETTINGS, psh::pprt::Planning::Full).unwrap();
     grp.bench_function("full", |bch| {
         bch.iter(|| {
             let t = precompute_planned(&scene, &full, &hidden).unwrap();

@@ -3,7 +3,7 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use psh::lights::polygon::{PolygonalLight, PolygonalLights};
-use psh::lights::spherical::Order;
+use psh::lights::source::Order;
 
 fn polygon(c: &mut Criterion) {
     let light = PolygonalLight::new(

@@ -2,11 +2,11 @@
 //! scene (`scenes/buddha.toml`; skipped with a message when the shared data is absent).
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use indicatif::ProgressBar;
+use psh::io::scene_file::{data_dir, load_scene};
 use psh::pprt::plan::Plan;
 use psh::pprt::render::{background, primary_hits, render_frame};
-use psh::pprt::scene_file::{data_dir, load_scene};
-use psh::pprt::transfer::{precompute_planned, TransferSettings};
+use psh::pprt::transfer::precompute_planned;
+use psh::pprt::TransferSettings;
 
 fn pprt(c: &mut Criterion) {
     if !data_dir().join("polarsh/buddha.obj").exists() {
@@ -22,15 +22,15 @@ fn pprt(c: &mut Criterion) {
         l_low: 4,
         l_high: 9,
         rays: 2000,
-        shadows: true,
+        visibility: psh::pprt::Visibility::Rays,
     };
     let mut grp = c.benchmark_group("pprt");
     grp.sample_size(10);
     // 2,000 visibility rays per vertex, triple products, rotation, pBRDF product (the
     // plan: the materials' matrices and the high orders' convolution, per material, is
     // built once outside).
-    let plan = Plan::full(&scene, settings).unwrap();
-    let hidden = ProgressBar::hidden();
+    let plan = Plan::new(&scene, settings, psh::pprt::Planning::Full).unwrap();
+    let hidden = psh::progress::Silent;
     grp.bench_function("precompute/buddha", |b| {
         b.iter(|| precompute_planned(&scene, &plan, &hidden).unwrap())
     });

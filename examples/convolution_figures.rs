@@ -17,7 +17,7 @@
 
 #[path = "common/sponza.rs"]
 mod sponza;
-use psh::io::plot::{LinePlot, Series};
+use psh::apps::plot::{LinePlot, Series};
 use psh::io::png::write_map_pngs;
 use psh::map::{MapLayout, StokesMap};
 use psh::optics::PolarizedPlastic;

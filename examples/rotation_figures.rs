@@ -14,13 +14,13 @@
 
 #[path = "common/sponza.rs"]
 mod sponza;
+use psh::apps::figure10::{off_block_fraction, rotation_coefficient_matrix, LinearBasis};
 use psh::geometry::frame::ThetaPhiFrameField;
 use psh::geometry::image_grid::{Equirect, PixelGrid};
 use psh::geometry::rotated::Rotated;
 use psh::geometry::rotation_from_rotvec;
 use psh::io::png::{diverging, write_map_pngs, write_matrix_png, write_png};
 use psh::map::{MapLayout, StokesMap};
-use psh::polarized::figure10::{off_block_fraction, rotation_coefficient_matrix, LinearBasis};
 use psh::polarized::{reconstruct_image, PshRotation, PshTransform, PshVector};
 use psh::sh::harmonics::ShEvaluator;
 use psh::sh::transform::ShTransform;

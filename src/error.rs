@@ -116,3 +116,22 @@ pub fn check_len(name: &'static str, expected: usize, got: usize) -> Result<()> 
         })
     }
 }
+/// Replaces the context of a `DifferentRays` error.
+pub(crate) fn relabel(e: Error, what: &'static str) -> Error {
+    match e {
+        Error::DifferentRays {
+            first,
+            second,
+            distance,
+            tolerance,
+            ..
+        } => Error::DifferentRays {
+            what,
+            first,
+            second,
+            distance,
+            tolerance,
+        },
+        other => other,
+    }
+}

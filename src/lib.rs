@@ -7,25 +7,32 @@
 #![allow(clippy::needless_range_loop)]
 
 /// The Rust examples of `README.md`, run as doctests.
-#[cfg(doctest)]
+#[cfg(all(doctest, feature = "io"))]
 #[doc = include_str!("../README.md")]
 struct ReadmeDoctests;
 
+#[cfg(feature = "apps")]
+pub mod apps;
 pub mod error;
 pub use error::{Error, Result};
 #[cfg(feature = "exact")]
 pub mod exact;
 pub mod geometry;
+#[cfg(feature = "io")]
 pub mod io;
 pub mod isd;
 pub mod lights;
 pub mod map;
 pub mod optics;
 pub mod polarized;
+#[cfg(feature = "render")]
 pub mod pprt;
+pub mod progress;
 pub mod random;
 pub mod sh;
 pub mod stokes;
 pub mod swsh;
+#[cfg(any(test, feature = "verify"))]
 pub mod testing;
+#[cfg(feature = "verify")]
 pub mod verify;

@@ -2,8 +2,10 @@
 //! planned render against the full one, and bad input.
 
 use psh::polarized::{Codomain, Sparsity};
-use psh::pprt::plan::{Plan, Visibility};
-use psh::pprt::transfer::{precompute_planned, TransferSettings};
+use psh::pprt::plan::Plan;
+use psh::pprt::transfer::precompute_planned;
+use psh::pprt::TransferSettings;
+use psh::pprt::Visibility;
 use psh::verify::{tangent_plane_vs_rays, unpolarized_vs_full};
 
 fn settings(l_low: usize, l_high: usize, rays: usize) -> TransferSettings {
@@ -11,7 +13,7 @@ fn settings(l_low: usize, l_high: usize, rays: usize) -> TransferSettings {
         l_low,
         l_high,
         rays,
-        shadows: true,
+        visibility: psh::pprt::Visibility::Rays,
     }
 }
 
@@ -20,8 +22,13 @@ fn settings(l_low: usize, l_high: usize, rays: usize) -> TransferSettings {
 /// render equals the full one within the tolerance (the high orders' dropped tail).
 #[test]
 fn unpolarized_scene_plans_scalar_sh() {
-    let scene = psh::pprt::job::builtin_unpolarized_scene(9, 8, 6).unwrap();
-    let plan = Plan::new(&scene, settings(4, 9, 16), 1e-3).unwrap();
+    let scene = psh::pprt::builtin::builtin_unpolarized_scene(9, 8, 6).unwrap();
+    let plan = Plan::new(
+        &scene,
+        settings(4, 9, 16),
+        psh::pprt::Planning::Tolerance(1e-3),
+    )
+    .unwrap();
     assert_eq!(plan.codomain, Codomain::Intensity);
     assert_eq!(plan.visibility, Visibility::Rays);
     for m in &plan.materials {
@@ -32,7 +39,7 @@ fn unpolarized_scene_plans_scalar_sh() {
             "a cosine lobe's tail is below 1e-3 before l = 9"
         );
     }
-    let t = precompute_planned(&scene, &plan, &indicatif::ProgressBar::hidden()).unwrap();
+    let t = precompute_planned(&scene, &plan, &psh::progress::Silent).unwrap();
     assert!(t
         .iter()
         .flatten()
@@ -40,7 +47,7 @@ fn unpolarized_scene_plans_scalar_sh() {
     let e = unpolarized_vs_full(16).unwrap();
     assert!(e <= 1e-3, "planned vs full: {e:e}");
     // Without a tolerance nothing is dropped.
-    let full = Plan::full(&scene, settings(4, 9, 16)).unwrap();
+    let full = Plan::new(&scene, settings(4, 9, 16), psh::pprt::Planning::Full).unwrap();
     assert_eq!(full.codomain, Codomain::Full);
     assert!(full.materials.iter().all(|m| m.l_high == 9));
 }
@@ -48,12 +55,24 @@ fn unpolarized_scene_plans_scalar_sh() {
 /// The polarized built-in scene needs everything but the dense storage.
 #[test]
 fn polarized_scene_keeps_stokes_and_rays() {
-    let scene = psh::pprt::job::builtin_scene(9, 8, 6).unwrap();
-    let plan = Plan::new(&scene, settings(4, 9, 16), 1e-3).unwrap();
+    let scene = psh::pprt::builtin::builtin_scene(9, 8, 6).unwrap();
+    let plan = Plan::new(
+        &scene,
+        settings(4, 9, 16),
+        psh::pprt::Planning::Tolerance(1e-3),
+    )
+    .unwrap();
     // Gold turns linear into circular polarization.
     assert_eq!(plan.codomain, Codomain::Full);
     assert_eq!(plan.visibility, Visibility::Rays);
-    assert!(plan.reasons.iter().any(|r| r.contains("create circular")));
+    assert!(plan.reasons.iter().any(|r| matches!(
+        r,
+        psh::pprt::Reason::Stokes { codomain: Codomain::Full, evidence: Some(e) } if e.circularizes > 1e-3
+    )));
+    assert!(plan
+        .reasons
+        .iter()
+        .any(|r| r.to_string().contains("create circular")));
 }
 
 /// One convex sphere: the tangent plane is the only occluder, the plastic creates no
@@ -72,16 +91,26 @@ fn convex_scene_needs_no_rays() {
 
 #[test]
 fn bad_input_is_an_error() {
-    let scene = psh::pprt::job::builtin_unpolarized_scene(9, 8, 6).unwrap();
+    let scene = psh::pprt::builtin::builtin_unpolarized_scene(9, 8, 6).unwrap();
     for tol in [0.0, 1.0, f64::NAN, -1e-3] {
-        let e = Plan::new(&scene, settings(4, 9, 16), tol).unwrap_err();
+        let e = Plan::new(
+            &scene,
+            settings(4, 9, 16),
+            psh::pprt::Planning::Tolerance(tol),
+        )
+        .unwrap_err();
         assert!(e.to_string().contains("tolerance"), "{e}");
     }
-    assert!(Plan::new(&scene, settings(1, 9, 16), 1e-3).is_err());
+    assert!(Plan::new(
+        &scene,
+        settings(1, 9, 16),
+        psh::pprt::Planning::Tolerance(1e-3)
+    )
+    .is_err());
     // A plan of another scene (another number of materials).
     let other = psh::verify::plan_convex_scene(6).unwrap();
-    let plan = Plan::full(&other, settings(4, 0, 16)).unwrap();
-    let e = precompute_planned(&scene, &plan, &indicatif::ProgressBar::hidden()).unwrap_err();
+    let plan = Plan::new(&other, settings(4, 0, 16), psh::pprt::Planning::Full).unwrap();
+    let e = precompute_planned(&scene, &plan, &psh::progress::Silent).unwrap_err();
     assert!(e.to_string().contains("materials"), "{e}");
 }
 
@@ -89,14 +118,19 @@ fn bad_input_is_an_error() {
 /// an error naming the material.
 #[test]
 fn scene_files_plan_as_documented() {
-    use psh::pprt::scene_file::load_scene;
+    use psh::io::scene_file::load_scene;
     let dir = env!("CARGO_MANIFEST_DIR");
     let (scene, s) = load_scene(format!("{dir}/scenes/diffuse.toml"), 0).unwrap();
-    let plan = Plan::new(&scene, TransferSettings { rays: 8, ..s }, 1e-3).unwrap();
+    let plan = Plan::new(
+        &scene,
+        TransferSettings { rays: 8, ..s },
+        psh::pprt::Planning::Tolerance(1e-3),
+    )
+    .unwrap();
     assert_eq!(plan.codomain, Codomain::Intensity);
     assert_eq!(plan.visibility, Visibility::Rays);
     let (scene, s) = load_scene(format!("{dir}/scenes/convex.toml"), 0).unwrap();
-    let plan = Plan::new(&scene, s, 1e-3).unwrap();
+    let plan = Plan::new(&scene, s, psh::pprt::Planning::Tolerance(1e-3)).unwrap();
     assert_eq!(plan.codomain, Codomain::NoCircular);
     assert_eq!(plan.visibility, Visibility::TangentPlane);
     let text = std::fs::read_to_string(format!("{dir}/scenes/diffuse.toml"))

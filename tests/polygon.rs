@@ -5,7 +5,7 @@ use nalgebra::{Rotation3, Vector3};
 use proptest::prelude::*;
 use psh::lights::polygon::boundary::triangle_solid_angle;
 use psh::lights::polygon::{reference, PolygonalLight, PolygonalLights};
-use psh::lights::spherical::Order;
+use psh::lights::source::Order;
 use psh::verify::polygon::{
     coefficient_errors, gradient_fd_errors, gradient_quadrature_errors, switch_errors,
 };
@@ -70,7 +70,7 @@ fn reference_l0_of_small_lights() {
     }
 }
 
-fn field(v: Vec<[f64; 3]>, x: [f64; 3], lmax: usize) -> psh::lights::spherical::LightField {
+fn field(v: Vec<[f64; 3]>, x: [f64; 3], lmax: usize) -> psh::lights::source::LightField {
     PolygonalLights::new(vec![PolygonalLight::new(v, 1.0).unwrap()], lmax)
         .unwrap()
         .field(x, Order::Gradients)

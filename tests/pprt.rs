@@ -7,8 +7,9 @@
 
 use psh::geometry::frame::{FrameField, ThetaPhiFrameField};
 use psh::polarized::{MatrixKernel, PshTransform};
-use psh::pprt::job::builtin_scene;
-use psh::pprt::transfer::{precompute, TransferSettings};
+use psh::pprt::builtin::builtin_scene;
+use psh::pprt::transfer::precompute;
+use psh::pprt::{Planning, TransferSettings, Visibility};
 use psh::sh::harmonics::sh_real;
 use psh::stokes::MuellerField;
 
@@ -19,7 +20,11 @@ fn check(shadows: bool) {
         l_low: l,
         l_high: 0,
         rays: 64,
-        shadows,
+        visibility: if shadows {
+            Visibility::Rays
+        } else {
+            Visibility::Off
+        },
     };
     let transfer = precompute(&scene, settings).unwrap();
     let env = scene.environment();
@@ -101,8 +106,8 @@ fn pprt_equals_direct_integration_with_shadows() {
 /// errors naming the file and the field.
 #[test]
 fn scene_files_render_and_bad_ones_are_errors() {
-    use psh::pprt::job::render_job;
-    use psh::pprt::scene_file::load_scene;
+    use psh::apps::render_job::render_job;
+    use psh::io::scene_file::load_scene;
     let dir = std::env::temp_dir().join(format!("psh-scene-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let good = r#"
@@ -159,10 +164,18 @@ material = "gold"
     std::fs::write(&path, good).unwrap();
     let (scene, settings) = load_scene(&path, 5).unwrap();
     assert_eq!(
-        (settings.l_low, settings.rays, settings.shadows),
+        (settings.l_low, settings.rays, settings.shadows()),
         (3, 32, true)
     );
-    let report = render_job(&scene, settings, Some(1e-3), &[0.0, 90.0], &dir.join("out")).unwrap();
+    let report = render_job(
+        &scene,
+        settings,
+        Planning::Tolerance(1e-3),
+        &[0.0, 90.0],
+        &dir.join("out"),
+        &psh::progress::Silent,
+    )
+    .unwrap();
     assert_eq!(report["counts"]["primary_rays"], 1200);
     // The plan says why it keeps or drops each part.
     assert!(report["plan"]["reasons"].as_array().unwrap().len() >= 2);
@@ -250,7 +263,7 @@ fn rotating_everything_together_leaves_the_image_unchanged() {
         l_low: l,
         l_high: 0,
         rays: 1,
-        shadows: false,
+        visibility: psh::pprt::Visibility::Off,
     };
     let render = |s: &Scene| {
         let t = precompute(s, settings).unwrap();
@@ -302,7 +315,7 @@ fn camera_roll_turns_s1_s2_as_psh_14() {
         l_low: 4,
         l_high: 6,
         rays: 64,
-        shadows: true,
+        visibility: psh::pprt::Visibility::Rays,
     };
     let transfer = precompute(&scene, settings).unwrap();
     let high = high_order_fields(&scene, settings).unwrap();
@@ -347,16 +360,16 @@ fn camera_roll_turns_s1_s2_as_psh_14() {
 /// strips and the times; settings with nothing to ablate are an error.
 #[test]
 fn ablation_writes_three_variants_side_by_side() {
-    use psh::pprt::job::ablation_job;
+    use psh::apps::render_job::ablation_job;
     let dir = std::env::temp_dir().join(format!("psh-ablation-{}", std::process::id()));
     let scene = builtin_scene(5, 30, 20).unwrap();
     let settings = TransferSettings {
         l_low: 3,
         l_high: 5,
         rays: 32,
-        shadows: true,
+        visibility: psh::pprt::Visibility::Rays,
     };
-    let report = ablation_job(&scene, settings, &[45.0], &dir).unwrap();
+    let report = ablation_job(&scene, settings, &[45.0], &dir, &psh::progress::Silent).unwrap();
     let names: Vec<_> = report["variants"]
         .as_array()
         .unwrap()
@@ -384,11 +397,12 @@ fn ablation_writes_three_variants_side_by_side() {
     let e = ablation_job(
         &scene,
         TransferSettings {
-            shadows: false,
+            visibility: psh::pprt::Visibility::Off,
             ..settings
         },
         &[],
         &dir,
+        &psh::progress::Silent,
     )
     .unwrap_err()
     .to_string();
@@ -406,7 +420,7 @@ fn mismatched_runtime_inputs_are_errors() {
         l_low: 3,
         l_high: 0,
         rays: 1,
-        shadows: false,
+        visibility: psh::pprt::Visibility::Off,
     };
     let transfer = precompute(&scene, settings).unwrap();
     let none = vec![None; scene.materials().len()];

@@ -2,7 +2,7 @@
 //! unshadowed PPRT integrates (the band-limited environment and pBRDF matrices over the
 //! whole sphere), it converges to the PPRT vertex values as the samples grow.
 
-use psh::pprt::job::builtin_scene;
+use psh::pprt::builtin::builtin_scene;
 
 /// The error falls like a quasi-Monte Carlo rate on a smooth integrand (expected slope
 /// near -1; plain Monte Carlo would give -0.5).
@@ -26,7 +26,7 @@ fn reference_converges_to_pprt_on_a_band_limited_scene() {
 /// band limit and setting, reference rows for every sample count and the band-limit floor.
 #[test]
 fn bench_error_writes_the_contract() {
-    use psh::pprt::bench_error::{bench_error, BenchErrorOptions};
+    use psh::apps::bench_error::{bench_error, BenchErrorOptions};
     let dir = std::env::temp_dir().join(format!("psh-bench-error-{}", std::process::id()));
     let scene = builtin_scene(3, 24, 18).unwrap();
     let options = BenchErrorOptions {

@@ -6,7 +6,7 @@ use psh::polarized::{Codomain, PshVector};
 use std::path::Path;
 
 pub fn sponza_or_synthetic(lmax: usize) -> psh::Result<(PshVector, String)> {
-    let pattern = psh::pprt::scene_file::data_dir().join("polarsh/sponza_64_s%d.exr");
+    let pattern = psh::io::scene_file::data_dir().join("polarsh/sponza_64_s%d.exr");
     let pattern = pattern.to_string_lossy().into_owned();
     if Path::new(&pattern.replace("%d", "0")).exists() {
         let map = psh::io::exr::read_stokes_map(&pattern)?;

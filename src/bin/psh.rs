@@ -484,6 +484,39 @@ struct WignerArgs {
 /// Largest degree `psh eval wigner` prints (the output grows like lmax^3).
 const MAX_WIGNER_EVAL_DEGREE: usize = 200;
 
+/// Progress drawn on stderr by indicatif when it is a terminal (hidden otherwise).
+struct TerminalProgress(indicatif::ProgressBar);
+
+impl TerminalProgress {
+    fn new() -> Self {
+        Self(indicatif::ProgressBar::hidden())
+    }
+}
+
+impl psh::progress::Progress for TerminalProgress {
+    fn start(&self, what: &str, total: u64) {
+        self.0
+            .set_draw_target(indicatif::ProgressDrawTarget::stderr());
+        self.0.set_length(total);
+        self.0.set_position(0);
+        // The template is a constant: it parses.
+        if let Ok(style) =
+            indicatif::ProgressStyle::with_template("{msg} {bar:40} {pos}/{len}, {eta} left")
+        {
+            self.0.set_style(style);
+        }
+        self.0.set_message(what.to_string());
+    }
+
+    fn advance(&self, n: u64) {
+        self.0.inc(n);
+    }
+
+    fn finish(&self) {
+        self.0.finish_and_clear();
+    }
+}
+
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(c) => c,
@@ -539,17 +572,18 @@ fn main() -> ExitCode {
 }
 
 fn isd_report(a: &LightsDemoArgs) -> ExitCode {
-    print_table(psh::io::isd_report::write_isd_report(&a.out).map(|r| r.markdown_table()))
+    print_table(psh::apps::isd_report::write_isd_report(&a.out).map(|r| r.markdown_table()))
 }
 
 fn polygon_lights_demo(a: &LightsDemoArgs) -> ExitCode {
     print_table(
-        psh::io::polygon_lights_demo::write_polygon_lights_demo(&a.out).map(|r| r.markdown_table()),
+        psh::apps::polygon_lights_demo::write_polygon_lights_demo(&a.out)
+            .map(|r| r.markdown_table()),
     )
 }
 
 fn lights_demo(a: &LightsDemoArgs) -> ExitCode {
-    print_table(psh::io::lights_demo::write_lights_demo(&a.out).map(|r| r.markdown_table()))
+    print_table(psh::apps::lights_demo::write_lights_demo(&a.out).map(|r| r.markdown_table()))
 }
 
 /// Prints a report's Markdown table, or the error.
@@ -567,7 +601,7 @@ fn print_table(table: psh::Result<String>) -> ExitCode {
 }
 
 fn filter_report(a: &FilterReportArgs) -> ExitCode {
-    let report = match psh::io::filter_report::write_filter_report(&a.out) {
+    let report = match psh::apps::filter_report::write_filter_report(&a.out) {
         Ok(r) => r,
         Err(e) => {
             eprintln!("error: {e}");
@@ -784,26 +818,28 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
     let (scene, file_settings, name) = match &a.scene {
         Some(path) => {
             let lmax = a.l_high.unwrap_or(0).max(a.l_low.unwrap_or(0));
-            let (scene, settings) = psh::pprt::scene_file::load_scene(path, lmax)?;
+            let (scene, settings) = psh::io::scene_file::load_scene(path, lmax)?;
             (scene, settings, path.display().to_string())
         }
         None => {
-            let settings = psh::pprt::transfer::TransferSettings {
-                l_low: 4,
-                l_high: 9,
-                rays: 256,
-                shadows: true,
-            };
-            let lmax = a.l_high.unwrap_or(9).max(a.l_low.unwrap_or(settings.l_low));
-            let scene = psh::pprt::job::builtin_scene(lmax, w, h)?;
+            let settings = psh::pprt::TransferSettings::default();
+            let lmax = a
+                .l_high
+                .unwrap_or(settings.l_high)
+                .max(a.l_low.unwrap_or(settings.l_low));
+            let scene = psh::pprt::builtin::builtin_scene(lmax, w, h)?;
             (scene, settings, "the built-in scene".to_string())
         }
     };
-    let settings = psh::pprt::transfer::TransferSettings {
+    let settings = psh::pprt::TransferSettings {
         l_low: a.l_low.unwrap_or(file_settings.l_low),
         l_high: a.l_high.unwrap_or(file_settings.l_high),
         rays: a.rays.unwrap_or(file_settings.rays),
-        shadows: file_settings.shadows && !a.no_shadows,
+        visibility: if a.no_shadows {
+            psh::pprt::Visibility::Off
+        } else {
+            file_settings.visibility
+        },
     };
     eprintln!(
         "rendering {name} ({} triangles, l_low {}, l_high {}, {} rays per vertex) into {}",
@@ -814,10 +850,27 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
         a.out.display()
     );
     if a.ablation {
-        return psh::pprt::job::ablation_job(&scene, settings, &polarizers, &a.out);
+        return psh::apps::render_job::ablation_job(
+            &scene,
+            settings,
+            &polarizers,
+            &a.out,
+            &TerminalProgress::new(),
+        );
     }
-    let tolerance = (!a.no_plan).then_some(a.tolerance);
-    let report = psh::pprt::job::render_job(&scene, settings, tolerance, &polarizers, &a.out)?;
+    let planning = if a.no_plan {
+        psh::pprt::Planning::Full
+    } else {
+        psh::pprt::Planning::Tolerance(a.tolerance)
+    };
+    let report = psh::apps::render_job::render_job(
+        &scene,
+        settings,
+        planning,
+        &polarizers,
+        &a.out,
+        &TerminalProgress::new(),
+    )?;
     if a.plan {
         if let Some(reasons) = report["plan"]["reasons"].as_array() {
             println!("plan (tolerance {:e}):", a.tolerance);
@@ -859,9 +912,9 @@ fn bench_error(a: &BenchErrorArgs) -> psh::Result<serde_json::Value> {
         })
         .collect::<psh::Result<Vec<_>>>()?;
     let mut scene = if a.scene == "builtin" {
-        psh::pprt::job::builtin_scene(a.l_max, w, h)?
+        psh::pprt::builtin::builtin_scene(a.l_max, w, h)?
     } else {
-        psh::pprt::scene_file::load_scene(&a.scene, a.l_max)?.0
+        psh::io::scene_file::load_scene(&a.scene, a.l_max)?.0
     };
     let cam = scene.camera().clone();
     scene.set_camera(psh::pprt::scene::Camera {
@@ -878,13 +931,13 @@ fn bench_error(a: &BenchErrorArgs) -> psh::Result<serde_json::Value> {
         a.l_max,
         a.out.display()
     );
-    let options = psh::pprt::bench_error::BenchErrorOptions {
+    let options = psh::apps::bench_error::BenchErrorOptions {
         l_max: a.l_max,
         rays: a.rays,
         spp,
         ground_truth_spp: a.ground_truth_spp,
     };
-    psh::pprt::bench_error::bench_error(&scene, &options, &a.out)
+    psh::apps::bench_error::bench_error(&scene, &options, &a.out)
 }
 
 fn reconstruct(a: &ReconstructArgs) -> psh::Result<serde_json::Value> {

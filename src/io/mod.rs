@@ -1,6 +1,6 @@
 //! Files: polarized maps as EXR (one file per Stokes component) and as PNG pictures,
-//! PSH coefficient vectors as polarsh-compatible `.npz`, line plots ([`plot`]) and the
-//! polarizing filter report ([`filter_report`]).
+//! PSH coefficient vectors and pBRDF matrices as polarsh-compatible `.npz`, convolution
+//! kernels as CSV, OBJ meshes and TOML scene files ([`scene_file`]): formats only.
 //!
 //! **Stored frames.** Map files store each texel's components as Mitsuba 3 measures them
 //! (the convention of the shared data, `docs/conventions.md`): in the frame `[x, -y, -w]`
@@ -11,14 +11,13 @@
 //! convention ([`crate::polarized::PshVector::travel_convention`]).
 
 pub mod exr;
-pub mod filter_report;
-pub mod isd_report;
 pub mod kernel_csv;
-pub mod lights_demo;
 pub mod npz;
-pub mod plot;
+#[cfg(feature = "render")]
+pub mod obj;
 pub mod png;
-pub mod polygon_lights_demo;
+#[cfg(feature = "render")]
+pub mod scene_file;
 
 use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};

@@ -10,22 +10,9 @@ use crate::sh::harmonics::ShEvaluator;
 use crate::sh::{lm_of_index, num_coeffs};
 use nalgebra::{DMatrix, DVector, Dyn, LU};
 
-/// Largest band limit: `M` is dense, `(L + 1)^2` square (ISD uses `L <= 31`, Table I).
-pub const MAX_LMAX: usize = 48;
-
 /// Largest accepted 2-norm condition number of `M`: weights then carry at most about
 /// `MAX_CONDITION * 1e-16 = 1e-8` relative error. Larger (or singular) sets are refused.
 pub const MAX_CONDITION: f64 = 1e8;
-
-/// Checks `lmax <= MAX_LMAX`.
-pub fn check_isd_lmax(lmax: usize) -> Result<()> {
-    crate::sh::check_degree_limit(
-        "ISD lmax",
-        lmax,
-        MAX_LMAX,
-        "the ISD transfer matrix is dense; the largest supported L",
-    )
-}
 
 /// `M` of ISD (17): `M_ij = beta_ll' pi_l' y_l'^m'(z_l^m)`, rows `i = (l', m')`, columns
 /// `j = (l, m)` in flat order; with `beta = I` it is block diagonal with the `M_l` of

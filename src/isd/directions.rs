@@ -91,7 +91,7 @@ impl DirectionSet {
     /// Given directions: `(lmax + 1)^2` per band (band `l` at `l*l .. (l+1)^2`), or
     /// `2 lmax + 1` shared. Errors: a wrong count, or a direction not finite and unit.
     pub fn new(dirs: Vec<[f64; 3]>, sharing: Sharing, lmax: usize) -> Result<Self> {
-        super::decomposition::check_isd_lmax(lmax)?;
+        super::check_isd_lmax(lmax)?;
         let expected = match sharing {
             Sharing::Shared => 2 * lmax + 1,
             Sharing::PerBand => num_coeffs(lmax),

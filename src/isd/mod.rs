@@ -23,15 +23,30 @@
 //! `pi_l = sqrt(4 pi / (2l + 1))` (ISD Fig. 2). Derivations not printed in the paper:
 //! `proofs/isd.md`.
 
+use crate::error::Result;
+
 pub mod decomposition;
 pub mod directions;
 pub mod filter;
 pub mod profiles;
 
-pub use decomposition::{Isd, MAX_CONDITION, MAX_LMAX};
+pub use decomposition::{Isd, MAX_CONDITION};
 pub use directions::{DirectionSet, Pattern, Sharing};
 pub use filter::PreConvolved;
 pub use profiles::Profile;
+
+/// Largest band limit: `M` is dense, `(L + 1)^2` square (ISD uses `L <= 31`, Table I).
+pub const MAX_LMAX: usize = 48;
+
+/// Checks `lmax <= MAX_LMAX`.
+pub fn check_isd_lmax(lmax: usize) -> Result<()> {
+    crate::sh::check_degree_limit(
+        "ISD lmax",
+        lmax,
+        MAX_LMAX,
+        "the ISD transfer matrix is dense; the largest supported L",
+    )
+}
 
 /// `pi_l = sqrt(4 pi / (2l + 1))`, the convolution factor of ISD (9), (13).
 #[inline]

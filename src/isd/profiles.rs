@@ -70,7 +70,7 @@ impl Profile {
     /// [`Profile::Zonal`] (ISD (18)), otherwise by 1D quadrature of `g_l(cos theta)`
     /// ([`zonal_coefficients`]). Errors: `lmax` beyond [`super::MAX_LMAX`].
     pub fn beta(self, lmax: usize) -> Result<DMatrix<f64>> {
-        super::decomposition::check_isd_lmax(lmax)?;
+        super::check_isd_lmax(lmax)?;
         if self == Profile::Zonal {
             return Ok(DMatrix::identity(lmax + 1, lmax + 1));
         }

@@ -8,20 +8,11 @@
 //! neighbouring voxels of any level share their corners and every corner is evaluated
 //! once.
 
-use super::spherical::{LightField, Order};
+use super::source::{LightField, LightSource, Order};
 use crate::error::{finite, Error, Result};
 use nalgebra::{DMatrix, Matrix3, SymmetricEigen};
 use std::collections::{HashMap, HashSet};
 use std::sync::OnceLock;
-
-/// Lights whose summed field (SH coefficients with gradients, and Hessians where
-/// derived) a grid can hold: spherical lights (SHH) and polygonal lights (SHG).
-pub trait LightSource {
-    /// The band limit.
-    fn lmax(&self) -> usize;
-    /// The summed light field at `x`.
-    fn field(&self, x: [f64; 3], order: Order) -> Result<LightField>;
-}
 
 /// How [`LightGrid::interpolate_with`] combines the 8 corners of a shading voxel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

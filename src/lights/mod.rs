@@ -3,9 +3,9 @@
 //! - [`spherical`]: spherical lights of uniform radiance, SHH (2)-(8), (15), (20);
 //! - [`grid`]: the error metric SHH (21)-(22), Hermite interpolation, the occupancy octree
 //!   and adaptive grids (SHH Sec. 5, Fig. 2);
-//! - [`scene`]: a procedural many-light scene for the demo and the checks.
+//! - [`source`]: the light field at a shading point and the lights a grid can hold.
 
 pub mod grid;
 pub mod polygon;
-pub mod scene;
+pub mod source;
 pub mod spherical;

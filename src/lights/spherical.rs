@@ -18,6 +18,7 @@
 //! differentiated by [`crate::sh::solid`]; `grad_x = -grad_d` (the minus sign of
 //! SHH (6)) and `H_x = H_d`.
 
+use super::source::{LightField, Order};
 use crate::error::{finite, Error, Result};
 use crate::sh::legendre::legendre_polynomials;
 use crate::sh::num_coeffs;
@@ -120,26 +121,6 @@ pub fn half_angle(d: [f64; 3], dist: f64, r: f64) -> (f64, [f64; 3], [f64; 6]) {
 pub struct SphericalLights {
     lights: Vec<SphericalLight>,
     sh: SolidHarmonics,
-}
-
-/// The light field at one shading point: `coefficients[l*l + l + m] = L_lm(x)`, and when
-/// requested its gradients and packed Hessians (order [`HESSIAN_ENTRIES`]) in `x`.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct LightField {
-    pub coefficients: Vec<f64>,
-    pub gradients: Vec<[f64; 3]>,
-    pub hessians: Vec<[f64; 6]>,
-}
-
-/// What to compute at a shading point.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Order {
-    /// Coefficients only (SHH (2)).
-    Values,
-    /// Coefficients and gradients (SHH (6)).
-    Gradients,
-    /// Coefficients, gradients and Hessians (SHH (15)).
-    Hessians,
 }
 
 /// Work space of one shading point: SH derivatives at the light direction and the
@@ -287,7 +268,7 @@ pub fn cap_of(light: &SphericalLight, x: [f64; 3], zonal: &mut [f64]) -> Result<
     Ok(d.map(|c| c / dist))
 }
 
-impl super::grid::LightSource for SphericalLights {
+impl super::source::LightSource for SphericalLights {
     fn lmax(&self) -> usize {
         SphericalLights::lmax(self)
     }

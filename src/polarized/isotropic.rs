@@ -359,6 +359,8 @@ impl IsotropicMatrix {
 mod tests {
     use super::*;
 
+    /// Against the closed form of `psh verify` (feature `verify`).
+    #[cfg(feature = "verify")]
     #[test]
     fn layout_is_polarsh_isobi2() {
         // SHMat_*_L20_ISOBI2.npz: 10280 entries for l < 20.

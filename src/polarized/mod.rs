@@ -19,7 +19,6 @@ mod codomain;
 mod convolution;
 mod cube;
 mod evaluator;
-pub mod figure10;
 mod image;
 mod isotropic;
 mod kernel;

@@ -1,10 +1,9 @@
-//! Triangle meshes with per-vertex normals: procedural spheres and planes, OBJ files
-//! (the `tobj` crate).
+//! Triangle meshes with per-vertex normals: procedural spheres, planes and tori, and
+//! triangle soups as files hold them ([`crate::io::obj`] reads OBJ files).
 
 use crate::error::{Error, Result};
 use nalgebra::Vector3;
 use std::f64::consts::PI;
-use std::path::Path;
 
 /// Smallest triangle area accepted (relative to the squared longest edge).
 const DEGENERATE_AREA: f64 = 1e-14;
@@ -224,61 +223,40 @@ impl Mesh {
         Self::new(positions, Some(normals), triangles)
     }
 
-    /// Reads an OBJ file (all its models, triangulated; normals computed when absent;
-    /// degenerate triangles, as n-gon triangulation leaves them, dropped and counted by
-    /// [`Self::dropped`]). Errors name the file and the reason.
-    pub fn from_obj(path: impl AsRef<Path>) -> Result<Self> {
-        let path = path.as_ref();
-        let malformed = |reason: String| Error::MalformedFile {
-            path: path.to_path_buf(),
+    /// A mesh from a triangle soup as files hold it: degenerate triangles (as n-gon
+    /// triangulation leaves them) dropped and counted by [`Self::dropped`], normals
+    /// computed when `normals` is `None`. Errors: an index out of range, no triangle of
+    /// non-zero area, and as [`Self::new`].
+    pub fn from_soup(
+        positions: Vec<[f64; 3]>,
+        normals: Option<Vec<[f64; 3]>>,
+        mut triangles: Vec<[u32; 3]>,
+    ) -> Result<Self> {
+        let value = format!(
+            "{} vertices, {} triangles",
+            positions.len(),
+            triangles.len()
+        );
+        let bad = |reason: String| Error::InvalidArgument {
+            name: "mesh",
+            value: value.clone(),
             reason,
         };
-        let opts = tobj::LoadOptions {
-            triangulate: true,
-            single_index: true,
-            ..Default::default()
-        };
-        let (models, _) = tobj::load_obj(path, &opts).map_err(|e| malformed(e.to_string()))?;
-        let (mut positions, mut normals, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
-        let mut all_normals = true;
-        for m in &models {
-            let base = positions.len() as u32;
-            let mesh = &m.mesh;
-            positions.extend(
-                mesh.positions
-                    .chunks_exact(3)
-                    .map(|p| [p[0], p[1], p[2]].map(f64::from)),
-            );
-            all_normals &= mesh.normals.len() == mesh.positions.len();
-            normals.extend(
-                mesh.normals
-                    .chunks_exact(3)
-                    .map(|p| [p[0], p[1], p[2]].map(f64::from)),
-            );
-            triangles.extend(
-                mesh.indices
-                    .chunks_exact(3)
-                    .map(|t| [t[0] + base, t[1] + base, t[2] + base]),
-            );
-        }
         if let Some(k) = triangles
             .iter()
             .position(|t| t.iter().any(|&i| i as usize >= positions.len()))
         {
-            return Err(malformed(format!(
-                "triangle {k}: vertex index out of range"
-            )));
+            return Err(bad(format!("triangle {k}: vertex index out of range")));
         }
         let total = triangles.len();
         triangles.retain(|t| !degenerate(&positions, t));
         if triangles.is_empty() {
-            return Err(malformed(format!(
-                "no triangles of non-zero area ({total} in the file)"
+            return Err(bad(format!(
+                "no triangles of non-zero area ({total} given)"
             )));
         }
         let dropped = total - triangles.len();
-        let mut mesh = Self::new(positions, all_normals.then_some(normals), triangles)
-            .map_err(|e| malformed(e.to_string()))?;
+        let mut mesh = Self::new(positions, normals, triangles)?;
         mesh.dropped = dropped;
         Ok(mesh)
     }
@@ -346,8 +324,13 @@ mod tests {
         assert!(e.to_string().contains("degenerate"), "{e}");
         let e = Mesh::new(vec![[0.0; 3]], None, vec![[0, 1, 2]]).unwrap_err();
         assert!(e.to_string().contains("out of range"), "{e}");
-        let e = Mesh::from_obj("/nonexistent/x.obj").unwrap_err();
-        assert!(e.to_string().contains("x.obj"), "{e}");
+        let tri = vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let m = Mesh::from_soup(tri.clone(), None, vec![[0, 1, 2], [0, 1, 1]]).unwrap();
+        assert_eq!((m.triangles().len(), m.dropped()), (1, 1));
+        let e = Mesh::from_soup(tri.clone(), None, vec![[0, 1, 1]]).unwrap_err();
+        assert!(e.to_string().contains("non-zero area"), "{e}");
+        let e = Mesh::from_soup(tri, None, vec![[0, 1, 4]]).unwrap_err();
+        assert!(e.to_string().contains("out of range"), "{e}");
     }
 
     /// The torus is closed (every edge shared by exactly two triangles, in opposite

@@ -8,22 +8,23 @@
 //! | [`sky`] | analytic Rayleigh sky with a sun | Chandrasekhar §17 |
 //! | [`reflected`] | high orders by convolution at the reflected direction | PSH Sec. 7 |
 //! | [`scene`] | materials, camera, BVH ray queries | |
-//! | [`scene_file`] | TOML scene files | |
+//! | [`settings`] | what a precomputation is asked to do, how much the plan may drop | |
 //! | [`plan`] | what a scene needs: Stokes components, visibility, storage, high orders | PSH (41), (52)-(56) |
 //! | [`transfer`] | visibility, PSH (54)-(56), (35)-(37), (41) per vertex | PSH Sec. 7 |
 //! | [`render`] | runtime frame, camera frames, polarizer images | PSH (14), (30) |
 //! | [`reference`] | quasi-Monte Carlo reference renderer in explicit frames | PSH (39) |
-//! | [`bench_error`] | run time against error, PSH Fig. 19 | PSH Fig. 19 |
-//! | [`job`] | the built-in scene and the render job (`cargo run --release`) | |
+//! | [`builtin`] | the built-in scenes | |
 
-pub mod bench_error;
-pub mod job;
+pub mod builtin;
 pub mod mesh;
 pub mod plan;
 pub mod reference;
 pub mod reflected;
 pub mod render;
 pub mod scene;
-pub mod scene_file;
+pub mod settings;
 pub mod sky;
 pub mod transfer;
+
+pub use plan::{Plan, Reason};
+pub use settings::{Planning, TransferSettings, Visibility};

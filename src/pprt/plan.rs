@@ -22,7 +22,7 @@
 
 use super::reflected::reflected_pbrdf;
 use super::scene::Scene;
-use super::transfer::TransferSettings;
+use super::settings::{Planning, TransferSettings, Visibility};
 use crate::error::{Error, Result};
 use crate::polarized::{
     isotropy_defect, project_to_convolution, Codomain, PshMatrix, PshVector, SparsePshMatrix,
@@ -32,19 +32,7 @@ use crate::sh::grid::GaussLegendre;
 use crate::sh::harmonics::ShEvaluator;
 use crate::sh::{lm_index, num_coeffs};
 use rayon::prelude::*;
-use serde_json::json;
 use std::f64::consts::PI;
-
-/// How visibility enters the transfer.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Visibility {
-    /// Ray-cast visibility and its triple product per vertex (PSH (54)-(56)).
-    Rays,
-    /// Only the tangent plane occludes: one fixed shadowing matrix in the shading frame.
-    TangentPlane,
-    /// No shadows at all (the settings turn them off).
-    Off,
-}
 
 /// What the plan keeps of one material.
 #[derive(Clone, Debug)]
@@ -70,8 +58,8 @@ pub struct MaterialPlan {
 pub struct Plan {
     /// The settings asked for (`l_high` is the upper limit of the high orders).
     pub settings: TransferSettings,
-    /// The tolerance of the decisions (`None`: nothing dropped).
-    pub tolerance: Option<f64>,
+    /// How much the decisions could drop.
+    pub planning: Planning,
     /// The Stokes components carried.
     pub codomain: Codomain,
     /// How visibility is computed.
@@ -81,34 +69,159 @@ pub struct Plan {
     /// The shadowing operator of the tangent plane in the shading frame
     /// ([`Visibility::TangentPlane`]).
     pub horizon: Option<SparsePshMatrix>,
-    /// One line per decision, saying why.
-    pub reasons: Vec<String>,
+    /// Each decision with the figures it rests on (`Display`: one line saying why).
+    pub reasons: Vec<Reason>,
+}
+
+/// The figures behind the choice of Stokes components: the environment's largest linear
+/// and circular coefficients relative to its largest `s0` one, and how strongly the
+/// materials polarize unpolarized light and create circular light (relative to each
+/// material's largest entry).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StokesEvidence {
+    pub linear: f64,
+    pub circular: f64,
+    pub polarizes: f64,
+    pub circularizes: f64,
+    pub tolerance: f64,
+}
+
+/// One decision of a plan and what it rests on.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Reason {
+    /// The Stokes components carried (`evidence` is `None` without a tolerance).
+    Stokes {
+        codomain: Codomain,
+        evidence: Option<StokesEvidence>,
+    },
+    /// The visibility computed against the one asked for.
+    Visibility {
+        asked: Visibility,
+        chosen: Visibility,
+        rays: usize,
+        planned: bool,
+    },
+    /// The storage and the high orders of material `index`: `stored` of `dense` matrix
+    /// entries; `l_high` `None` without high orders.
+    Material {
+        index: usize,
+        sparsity: Sparsity,
+        stored: usize,
+        dense: usize,
+        isotropy_defect: f64,
+        l_high: Option<usize>,
+        dropped_tail: f64,
+    },
+}
+
+impl std::fmt::Display for Reason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            Reason::Stokes { evidence: None, .. } => write!(f, "Stokes: s0..s3 (no plan)"),
+            Reason::Stokes {
+                codomain,
+                evidence: Some(e),
+            } => {
+                let (linear, circular, polarizes, circularizes, tol) = (
+                    e.linear,
+                    e.circular,
+                    e.polarizes,
+                    e.circularizes,
+                    e.tolerance,
+                );
+                match codomain {
+                    Codomain::Intensity => write!(
+                        f,
+                        "Stokes: s0 only, scalar SH (environment polarization {:.1e} <= \
+                         {tol:.0e}, no material polarizes unpolarized light: {polarizes:.1e})",
+                        linear.max(circular)
+                    ),
+                    Codomain::NoCircular => write!(
+                        f,
+                        "Stokes: s0, s1, s2 (environment circular {circular:.1e} <= {tol:.0e}, \
+                         no material creates circular light: {circularizes:.1e}); kept s1, s2: \
+                         environment linear {linear:.1e}, materials polarize {polarizes:.1e}"
+                    ),
+                    _ => write!(
+                        f,
+                        "Stokes: s0..s3 (environment linear {linear:.1e}, circular \
+                         {circular:.1e}; materials polarize {polarizes:.1e}, create circular \
+                         {circularizes:.1e}; tolerance {tol:.0e})"
+                    ),
+                }
+            }
+            Reason::Visibility {
+                asked,
+                chosen,
+                rays,
+                planned,
+            } => match (asked, chosen) {
+                (_, Visibility::Off) => write!(f, "visibility: off (shadows off in the settings)"),
+                (Visibility::Rays, Visibility::TangentPlane) => write!(
+                    f,
+                    "visibility: tangent plane only (one convex object occludes nothing above \
+                     it): no rays, one fixed shadowing matrix instead of a triple product per \
+                     vertex"
+                ),
+                (_, Visibility::TangentPlane) => write!(
+                    f,
+                    "visibility: tangent plane only (asked for in the settings): no rays, one \
+                     fixed shadowing matrix"
+                ),
+                (_, Visibility::Rays) => write!(
+                    f,
+                    "visibility: {rays} rays per vertex and a triple product (PSH (54)-(56)){}",
+                    if planned {
+                        " (occluders: more than one object, or a non-convex one)"
+                    } else {
+                        ""
+                    }
+                ),
+            },
+            Reason::Material {
+                index,
+                sparsity,
+                stored,
+                dense,
+                isotropy_defect,
+                l_high,
+                dropped_tail,
+            } => write!(
+                f,
+                "material {index}: {} storage ({stored} of {dense} entries, isotropy defect \
+                 {isotropy_defect:.1e}); high orders {} (dropped tail {dropped_tail:.1e})",
+                match sparsity {
+                    Sparsity::Isotropic => "isotropic sparse",
+                    Sparsity::General => "general sparse",
+                },
+                l_high.map_or("none".into(), |l| format!("to l = {l}")),
+            ),
+        }
+    }
 }
 
 impl Plan {
-    /// Everything computed: full Stokes vectors, ray-cast visibility (when the settings ask
-    /// for shadows), every nonzero matrix entry stored and the high orders up to `settings.l_high`. Errors: as
-    /// [`TransferSettings::check`], and materials or an environment that cannot be projected
-    /// at the band limits.
-    pub fn full(scene: &Scene, settings: TransferSettings) -> Result<Plan> {
-        Self::build(scene, settings, None)
-    }
-
-    /// The plan for `scene` within `tolerance` (module docs). Errors: as [`Self::full`], and
-    /// a tolerance outside `(0, 1)`.
-    pub fn new(scene: &Scene, settings: TransferSettings, tolerance: f64) -> Result<Plan> {
-        if !(tolerance > 0.0 && tolerance < 1.0) {
-            return Err(Error::InvalidArgument {
-                name: "plan tolerance",
-                value: tolerance.to_string(),
-                reason: "in (0, 1)".into(),
-            });
+    /// The plan for `scene` (module docs): [`Planning::Full`] keeps everything (the
+    /// visibility asked for, full Stokes vectors, every nonzero matrix entry, the high
+    /// orders up to `settings.l_high`). Errors: as [`TransferSettings::check`], a tolerance
+    /// outside `(0, 1)`, and materials or an environment that cannot be projected at the
+    /// band limits.
+    pub fn new(scene: &Scene, settings: TransferSettings, planning: Planning) -> Result<Plan> {
+        if let Planning::Tolerance(tolerance) = planning {
+            if !(tolerance > 0.0 && tolerance < 1.0) {
+                return Err(Error::InvalidArgument {
+                    name: "plan tolerance",
+                    value: tolerance.to_string(),
+                    reason: "in (0, 1)".into(),
+                });
+            }
         }
-        Self::build(scene, settings, Some(tolerance))
+        Self::build(scene, settings, planning)
     }
 
-    fn build(scene: &Scene, settings: TransferSettings, tolerance: Option<f64>) -> Result<Plan> {
+    fn build(scene: &Scene, settings: TransferSettings, planning: Planning) -> Result<Plan> {
         settings.check()?;
+        let tolerance = planning.tolerance();
         let l = settings.l_low;
         let lh = settings.l_high.max(l);
         let mut reasons = Vec::new();
@@ -128,37 +241,33 @@ impl Plan {
         let codomain = match tolerance {
             Some(tol) => {
                 // The matrices to l_high: the high orders' kernels come from them too.
-                let (c, why) = stokes_components(scene, &matrices_high, tol)?;
-                reasons.push(why);
+                let (c, evidence) = stokes_components(scene, &matrices_high, tol)?;
+                reasons.push(Reason::Stokes {
+                    codomain: c,
+                    evidence: Some(evidence),
+                });
                 c
             }
             None => {
-                reasons.push("Stokes: s0..s3 (no plan)".into());
+                reasons.push(Reason::Stokes {
+                    codomain: Codomain::Full,
+                    evidence: None,
+                });
                 Codomain::Full
             }
         };
-        let visibility = if !settings.shadows {
-            reasons.push("visibility: off (shadows off in the settings)".into());
-            Visibility::Off
-        } else if tolerance.is_some() && single_convex_object(scene) {
-            reasons.push(
-                "visibility: tangent plane only (one convex object occludes nothing above it): \
-                 no rays, one fixed shadowing matrix instead of a triple product per vertex"
-                    .into(),
-            );
-            Visibility::TangentPlane
-        } else {
-            reasons.push(format!(
-                "visibility: {} rays per vertex and a triple product (PSH (54)-(56)){}",
-                settings.rays,
-                if tolerance.is_some() {
-                    " (occluders: more than one object, or a non-convex one)"
-                } else {
-                    ""
-                }
-            ));
-            Visibility::Rays
+        let visibility = match settings.visibility {
+            Visibility::Rays if tolerance.is_some() && single_convex_object(scene) => {
+                Visibility::TangentPlane
+            }
+            asked => asked,
         };
+        reasons.push(Reason::Visibility {
+            asked: settings.visibility,
+            chosen: visibility,
+            rays: settings.rays,
+            planned: tolerance.is_some(),
+        });
         let horizon = match visibility {
             Visibility::TangentPlane => {
                 let t = TripleTable::new(2 * l, l)?.transfer(&tangent_plane_visibility(2 * l)?)?;
@@ -202,26 +311,19 @@ impl Plan {
             .collect::<Result<Vec<_>>>()?;
         let dense = 3 * (num_coeffs(l) * codomain.components().len()).pow(2);
         for (k, m) in materials.iter().enumerate() {
-            let stored: usize = m.operators.iter().map(SparsePshMatrix::stored).sum();
-            reasons.push(format!(
-                "material {k}: {} storage ({stored} of {dense} entries, isotropy defect \
-                 {:.1e}); high orders {} (dropped tail {:.1e})",
-                match m.sparsity {
-                    Sparsity::Isotropic => "isotropic sparse",
-                    Sparsity::General => "general sparse",
-                },
-                m.isotropy_defect,
-                if m.l_high > l {
-                    format!("to l = {}", m.l_high)
-                } else {
-                    "none".into()
-                },
-                m.dropped_tail,
-            ));
+            reasons.push(Reason::Material {
+                index: k,
+                sparsity: m.sparsity,
+                stored: m.operators.iter().map(SparsePshMatrix::stored).sum(),
+                dense,
+                isotropy_defect: m.isotropy_defect,
+                l_high: (m.l_high > l).then_some(m.l_high),
+                dropped_tail: m.dropped_tail,
+            });
         }
         Ok(Plan {
             settings,
-            tolerance,
+            planning,
             codomain,
             visibility,
             materials,
@@ -236,23 +338,6 @@ impl Plan {
             .iter()
             .map(|m| m.high.as_ref().map(|h| h.0.clone()))
             .collect()
-    }
-
-    /// The plan as JSON (for reports).
-    pub fn to_json(&self) -> serde_json::Value {
-        json!({
-            "tolerance": self.tolerance,
-            "stokes": self.codomain.components(),
-            "visibility": format!("{:?}", self.visibility),
-            "materials": self.materials.iter().map(|m| json!({
-                "storage": format!("{:?}", m.sparsity),
-                "stored_entries": m.operators.iter().map(SparsePshMatrix::stored).sum::<usize>(),
-                "isotropy_defect": m.isotropy_defect,
-                "l_high": m.l_high,
-                "dropped_tail": m.dropped_tail,
-            })).collect::<Vec<_>>(),
-            "reasons": self.reasons,
-        })
     }
 }
 
@@ -275,7 +360,7 @@ fn stokes_components(
     scene: &Scene,
     matrices: &[[PshMatrix; 3]],
     tol: f64,
-) -> Result<(Codomain, String)> {
+) -> Result<(Codomain, StokesEvidence)> {
     let env = scene.environment();
     let largest = |p: &[usize]| -> Result<f64> {
         let mut x = 0.0f64;
@@ -308,34 +393,23 @@ fn stokes_components(
     };
     let polarizes = worst(&[(1, 0), (2, 0), (3, 0)]);
     let circularizes = worst(&[(3, 0), (3, 1), (3, 2)]);
-    Ok(if linear <= tol && circular <= tol && polarizes <= tol {
-        (
-            Codomain::Intensity,
-            format!(
-                "Stokes: s0 only, scalar SH (environment polarization {:.1e} <= {tol:.0e}, no \
-                 material polarizes unpolarized light: {polarizes:.1e})",
-                linear.max(circular)
-            ),
-        )
+    let codomain = if linear <= tol && circular <= tol && polarizes <= tol {
+        Codomain::Intensity
     } else if circular <= tol && circularizes <= tol {
-        (
-            Codomain::NoCircular,
-            format!(
-                "Stokes: s0, s1, s2 (environment circular {circular:.1e} <= {tol:.0e}, no \
-                 material creates circular light: {circularizes:.1e}); kept s1, s2: environment \
-                 linear {linear:.1e}, materials polarize {polarizes:.1e}"
-            ),
-        )
+        Codomain::NoCircular
     } else {
-        (
-            Codomain::Full,
-            format!(
-                "Stokes: s0..s3 (environment linear {linear:.1e}, circular {circular:.1e}; \
-                 materials polarize {polarizes:.1e}, create circular {circularizes:.1e}; \
-                 tolerance {tol:.0e})"
-            ),
-        )
-    })
+        Codomain::Full
+    };
+    Ok((
+        codomain,
+        StokesEvidence {
+            linear,
+            circular,
+            polarizes,
+            circularizes,
+            tolerance: tol,
+        },
+    ))
 }
 
 /// `(l_high, high orders and residual, dropped tail)` of one material.

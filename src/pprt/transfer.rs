@@ -10,31 +10,18 @@
 //! vertex. The environment is fixed at precomputation; a new environment re-runs the
 //! products, not the ray casting (the visibility vectors are kept).
 
-use super::plan::{Plan, Visibility};
+use super::plan::Plan;
 use super::scene::Scene;
+use super::settings::{Planning, TransferSettings, Visibility};
 use crate::error::{Error, Result};
 use crate::geometry::fibonacci_directions;
 use crate::geometry::frame::Frame;
 use crate::polarized::{PshRotation, PshVector, TripleTable};
+use crate::progress::{Progress, Silent};
 use crate::sh::harmonics::ShEvaluator;
 use crate::sh::num_coeffs;
-use indicatif::ProgressBar;
 use nalgebra::Rotation3;
 use rayon::prelude::*;
-
-/// Settings of the precomputation.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TransferSettings {
-    /// Band limit of the transfer (`l <= l_low`).
-    pub l_low: usize,
-    /// Band limit of the high orders by convolution (`l_low < l <= l_high`; none when
-    /// `l_high` is `l_low` or 0), [`super::reflected`].
-    pub l_high: usize,
-    /// Visibility rays per vertex (quasi-uniform Fibonacci directions).
-    pub rays: usize,
-    /// Shadows (visibility) on or off.
-    pub shadows: bool,
-}
 
 /// The transfer of one vertex.
 #[derive(Clone, Debug, PartialEq)]
@@ -47,27 +34,6 @@ pub struct VertexTransfer {
     /// Outgoing radiance (RGB, `s0..s3`, `l <= l_low`, indexed by the direction of
     /// travel) in the shading frame.
     pub radiance: PshVector,
-}
-
-impl TransferSettings {
-    /// Errors: `l_low` below 2 or above 20, `l_high` below `l_low` (other than 0, no high
-    /// orders), no rays with shadows on.
-    pub fn check(&self) -> Result<()> {
-        let l = self.l_low;
-        if !(2..=20).contains(&l)
-            || (self.shadows && self.rays == 0)
-            || (self.l_high != 0 && self.l_high < l)
-        {
-            return Err(Error::InvalidArgument {
-                name: "transfer settings",
-                value: format!("l_low {l}, l_high {}, {} rays", self.l_high, self.rays),
-                reason: "2 <= l_low <= 20, l_high >= l_low (or 0: no high orders), and rays > 0 \
-                         with shadows"
-                    .into(),
-            });
-        }
-        Ok(())
-    }
 }
 
 /// The visibility rays of the transfer: `n` Fibonacci directions and their real SH of
@@ -125,16 +91,17 @@ pub fn ray_visibility(
 /// Transfer of every vertex of every object, `[object][vertex]`, with everything computed
 /// ([`Plan::full`]). Errors: as [`TransferSettings::check`].
 pub fn precompute(scene: &Scene, settings: TransferSettings) -> Result<Vec<Vec<VertexTransfer>>> {
-    precompute_planned(scene, &Plan::full(scene, settings)?, &ProgressBar::hidden())
+    precompute_planned(scene, &Plan::new(scene, settings, Planning::Full)?, &Silent)
 }
 
 /// The transfer as `plan` says ([`super::plan`]): its Stokes components, its visibility and
-/// its sparse material operators, advancing `progress` by one per vertex done. Error: a plan
+/// its sparse material operators, reporting the vertices done to `progress` (stage
+/// "precompute"). Error: a plan
 /// of another scene (another number of materials).
 pub fn precompute_planned(
     scene: &Scene,
     plan: &Plan,
-    progress: &ProgressBar,
+    progress: &dyn Progress,
 ) -> Result<Vec<Vec<VertexTransfer>>> {
     crate::error::check_len(
         "planned materials",
@@ -158,7 +125,13 @@ pub fn precompute_planned(
         None
     };
     let env = scene.environment().truncated(l)?.with_codomain(codomain);
-    scene
+    let vertices = scene
+        .objects()
+        .iter()
+        .map(|o| o.mesh.positions().len())
+        .sum::<usize>();
+    progress.start("precompute", vertices as u64);
+    let transfer = scene
         .objects()
         .iter()
         .map(|o| {
@@ -184,7 +157,7 @@ pub fn precompute_planned(
                         .enumerate()
                         .map(|(c, m)| m.apply(&local.channel(c)?))
                         .collect::<Result<Vec<_>>>()?;
-                    progress.inc(1);
+                    progress.advance(1);
                     Ok(VertexTransfer {
                         rotation,
                         visibility,
@@ -193,10 +166,12 @@ pub fn precompute_planned(
                 })
                 .collect::<Result<Vec<_>>>()
         })
-        .collect()
+        .collect();
+    progress.finish();
+    transfer
 }
 
-/// The high orders per material ([`super::reflected`], [`Plan::full`]): the environment
+/// The high orders per material ([`super::reflected`], [`Planning::Full`]): the environment
 /// convolved with the kernel of the material's reflected pBRDF over the bands
 /// `l_low < l <= l_high` (RGB); `None` for every material when `l_high <= l_low`. Error: an
 /// environment below `l_high`.
@@ -204,5 +179,5 @@ pub fn high_order_fields(
     scene: &Scene,
     settings: TransferSettings,
 ) -> Result<Vec<Option<PshVector>>> {
-    Ok(Plan::full(scene, settings)?.high_fields())
+    Ok(Plan::new(scene, settings, Planning::Full)?.high_fields())
 }

@@ -9,6 +9,7 @@
 
 use super::components::StokesComponents;
 use super::vector::StokesVector;
+use crate::error::relabel;
 use crate::error::{finite, Result};
 use crate::geometry::frame::Frame;
 use nalgebra::{Matrix4, Rotation3};
@@ -269,26 +270,6 @@ impl MuellerTransform {
 
 fn cos_sin(from: &Frame, to: &Frame, what: &'static str) -> Result<(f64, f64)> {
     from.cos_sin_to(to).map_err(|e| relabel(e, what))
-}
-
-/// Replaces the context of a `DifferentRays` error.
-pub(crate) fn relabel(e: crate::Error, what: &'static str) -> crate::Error {
-    match e {
-        crate::Error::DifferentRays {
-            first,
-            second,
-            distance,
-            tolerance,
-            ..
-        } => crate::Error::DifferentRays {
-            what,
-            first,
-            second,
-            distance,
-            tolerance,
-        },
-        other => other,
-    }
 }
 
 #[cfg(test)]

@@ -6,7 +6,7 @@
 //! vectors (PSH (17), (18)) first convert to a common frame and fail for different rays.
 
 use super::components::StokesComponents;
-use super::mueller::relabel;
+use crate::error::relabel;
 use crate::error::{finite, Result};
 use crate::geometry::frame::{Frame, FrameField};
 use nalgebra::{Rotation3, Vector2, Vector3, Vector4};

@@ -2,7 +2,8 @@
 
 use super::Check;
 use crate::error::Result;
-use crate::lights::spherical::{half_angle, LightField, Order, SphericalLight, SphericalLights};
+use crate::lights::source::{LightField, Order};
+use crate::lights::spherical::{half_angle, SphericalLight, SphericalLights};
 use crate::sh::grid::GaussLegendre;
 use crate::sh::harmonics::ShEvaluator;
 use crate::sh::solid::hessian_index;
@@ -213,8 +214,8 @@ fn error_metric() -> Result<f64> {
 }
 
 fn adaptive_error_falls() -> Result<f64> {
+    use crate::apps::light_scene::{demo_scene, exact_coefficients, grid_errors};
     use crate::lights::grid::{Lattice, LightGrid, Metric, Refinement};
-    use crate::lights::scene::{demo_scene, exact_coefficients, grid_errors};
     let scene = demo_scene(32, 12, 20, 5)?;
     let lights = SphericalLights::new(scene.lights.clone(), 4)?;
     let exact = exact_coefficients(&lights, &scene.points)?;

@@ -241,9 +241,7 @@ fn horizon_analytic() -> Result<f64> {
 /// The shared data file `name` (`$PSH_DATA_DIR/polarsh` or `../shared/data/polarsh`), or
 /// [`Error::DataMissing`].
 fn shared_file(name: &str) -> Result<PathBuf> {
-    let path = crate::pprt::scene_file::data_dir()
-        .join("polarsh")
-        .join(name);
+    let path = crate::io::scene_file::data_dir().join("polarsh").join(name);
     if path.exists() {
         Ok(path)
     } else {

@@ -5,13 +5,14 @@ use super::Check;
 use crate::error::{Error, Result};
 use crate::polarized::Codomain;
 use crate::pprt::mesh::Mesh;
-use crate::pprt::plan::{tangent_plane_visibility, Plan, Visibility};
+use crate::pprt::plan::{tangent_plane_visibility, Plan};
 use crate::pprt::render::vertex_stokes;
 use crate::pprt::scene::{Camera, Scene, SceneMaterial, SceneObject};
 use crate::pprt::sky::RayleighSky;
-use crate::pprt::transfer::{precompute_planned, TransferSettings};
+use crate::pprt::transfer::precompute_planned;
+use crate::pprt::TransferSettings;
+use crate::pprt::Visibility;
 use crate::sh::lm_index;
-use indicatif::ProgressBar;
 use std::f64::consts::PI;
 
 pub fn checks() -> Vec<Check> {
@@ -74,7 +75,7 @@ pub fn tangent_plane_closed_form() -> Result<f64> {
 /// Max difference of the vertex Stokes vectors of `planned` and `full`, relative to the
 /// largest `s0` of `full`.
 fn vertex_difference(scene: &Scene, planned: &Plan, full: &Plan) -> Result<f64> {
-    let hidden = ProgressBar::hidden();
+    let hidden = crate::progress::Silent;
     let a = vertex_stokes(
         scene,
         &precompute_planned(scene, planned, &hidden)?,
@@ -108,18 +109,22 @@ fn wrong_plan(what: &str, plan: &Plan) -> Error {
 /// [`vertex_difference`] of the unpolarized built-in scene, planned at `1e-3` and full,
 /// with `rays` visibility directions.
 pub fn unpolarized_vs_full(rays: usize) -> Result<f64> {
-    let scene = crate::pprt::job::builtin_unpolarized_scene(9, 16, 12)?;
+    let scene = crate::pprt::builtin::builtin_unpolarized_scene(9, 16, 12)?;
     let settings = TransferSettings {
         l_low: 4,
         l_high: 9,
         rays,
-        shadows: true,
+        visibility: crate::pprt::Visibility::Rays,
     };
-    let planned = Plan::new(&scene, settings, 1e-3)?;
+    let planned = Plan::new(&scene, settings, crate::pprt::Planning::Tolerance(1e-3))?;
     if planned.codomain != Codomain::Intensity || planned.visibility != Visibility::Rays {
         return Err(wrong_plan("scalar SH with rays", &planned));
     }
-    vertex_difference(&scene, &planned, &Plan::full(&scene, settings)?)
+    vertex_difference(
+        &scene,
+        &planned,
+        &Plan::new(&scene, settings, crate::pprt::Planning::Full)?,
+    )
 }
 
 /// One glossy plastic sphere under the polarized sky, `l_low = 6`, no high orders.
@@ -147,11 +152,15 @@ pub fn tangent_plane_vs_rays(rays: usize) -> Result<f64> {
         l_low: 6,
         l_high: 0,
         rays,
-        shadows: true,
+        visibility: crate::pprt::Visibility::Rays,
     };
-    let planned = Plan::new(&scene, settings, 1e-3)?;
+    let planned = Plan::new(&scene, settings, crate::pprt::Planning::Tolerance(1e-3))?;
     if planned.codomain != Codomain::NoCircular || planned.visibility != Visibility::TangentPlane {
         return Err(wrong_plan("s0..s2 with the tangent plane", &planned));
     }
-    vertex_difference(&scene, &planned, &Plan::full(&scene, settings)?)
+    vertex_difference(
+        &scene,
+        &planned,
+        &Plan::new(&scene, settings, crate::pprt::Planning::Full)?,
+    )
 }

@@ -5,7 +5,7 @@ use crate::error::Result;
 use crate::lights::grid::{Interpolation, Lattice, LightGrid, Refinement};
 use crate::lights::polygon::cubature::SMALL_LIGHT;
 use crate::lights::polygon::{reference, PolygonalLight, PolygonalLights};
-use crate::lights::spherical::Order;
+use crate::lights::source::Order;
 
 /// Band limit of the checks.
 const LMAX: usize = 20;

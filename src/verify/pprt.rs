@@ -33,12 +33,12 @@ pub fn checks() -> Vec<Check> {
 pub fn reference_discrepancy(samples: usize) -> Result<f64> {
     use crate::pprt::reference::{Fidelity, Reference, ReferenceSettings};
     let l = 3;
-    let scene = crate::pprt::job::builtin_scene(l, 16, 12)?;
-    let settings = crate::pprt::transfer::TransferSettings {
+    let scene = crate::pprt::builtin::builtin_scene(l, 16, 12)?;
+    let settings = crate::pprt::TransferSettings {
         l_low: l,
         l_high: 0,
         rays: 1,
-        shadows: false,
+        visibility: crate::pprt::Visibility::Off,
     };
     let transfer = crate::pprt::transfer::precompute(&scene, settings)?;
     let none = vec![None; scene.materials().len()];

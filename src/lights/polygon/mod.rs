@@ -20,11 +20,10 @@ pub mod boundary;
 pub mod clip;
 pub mod cubature;
 pub mod reference;
-pub mod scene;
 pub mod zonal_factorization;
 
 use crate::error::{finite, Error, Result};
-use crate::lights::spherical::{LightField, Order};
+use crate::lights::source::{LightField, Order};
 use crate::sh::num_coeffs;
 use boundary::{cross, dot, norm, triangle_solid_angle, Arc};
 use clip::{clip_to_horizon, ClippedPolygon};
@@ -328,7 +327,7 @@ impl PolygonalLights {
     }
 }
 
-impl crate::lights::grid::LightSource for PolygonalLights {
+impl crate::lights::source::LightSource for PolygonalLights {
     fn lmax(&self) -> usize {
         PolygonalLights::lmax(self)
     }

@@ -14,10 +14,10 @@
 //!   (RZH, shared Fibonacci directions, one kernel and signal) by ISD (6) and by
 //!   [`sh_rotate_dot`], on this machine, one thread.
 
-use super::io_error;
-use super::plot::{LinePlot, Series};
+use crate::apps::plot::{LinePlot, Series};
 use crate::error::Result;
 use crate::geometry::rotation_from_rotvec;
+use crate::io::io_error;
 use crate::isd::decomposition::{condition_number, transfer_matrix};
 use crate::isd::filter::sh_rotate_dot;
 use crate::isd::{DirectionSet, Isd, Pattern, PreConvolved, Profile, Sharing};

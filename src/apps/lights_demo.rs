@@ -1,13 +1,13 @@
-//! `psh lights-demo`: the procedural many-light scene of [`crate::lights::scene`] with
+//! `psh lights-demo`: the procedural many-light scene of [`crate::apps::light_scene`] with
 //! uniform grids and a Hessian-adaptive grid (SHH Sec. 5, 6.2), compared by construction
 //! time and by the interpolation error against the per-point exact coefficients (a table
 //! like SHH Table 2), with false-colour error images of the floor.
 
-use super::io_error;
-use super::png::{diverging, write_png};
+use crate::apps::light_scene::{demo_scene, exact_coefficients, grid_errors, Scene};
 use crate::error::Result;
+use crate::io::io_error;
+use crate::io::png::{diverging, write_png};
 use crate::lights::grid::{Lattice, LightGrid, Metric, Refinement};
-use crate::lights::scene::{demo_scene, exact_coefficients, grid_errors, Scene};
 use crate::lights::spherical::SphericalLights;
 use std::path::{Path, PathBuf};
 use std::time::Instant;

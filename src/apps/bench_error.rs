@@ -1,20 +1,20 @@
 //! Run time against error (`psh bench-error`): PPRT at a ladder of band limits and
 //! settings, and the reference renderer at a ladder of sample counts, each timed and
-//! measured against a high-sample ground truth ([`super::reference`], exact fidelity);
+//! measured against a high-sample ground truth ([`crate::pprt::reference`], exact fidelity);
 //! PSH Fig. 19 (RMSE per Stokes component falling with the band limit) is the `full`
 //! series of it.
 //!
 //! RMSE per Stokes component is over the pixels that see a surface and the three
 //! channels, in the camera's frames; the total is the root of their sum of squares.
 
-use super::plan::Plan;
-use super::reference::{Fidelity, Reference, ReferenceSettings};
-use super::render::{background, primary_hits, render_frame, StokesImage};
-use super::scene::Scene;
-use super::transfer::{precompute_planned, TransferSettings};
+use crate::apps::plot::{LinePlot, Series};
 use crate::error::{Error, Result};
-use crate::io::plot::{LinePlot, Series};
-use indicatif::ProgressBar;
+use crate::pprt::plan::Plan;
+use crate::pprt::reference::{Fidelity, Reference, ReferenceSettings};
+use crate::pprt::render::{background, primary_hits, render_frame, StokesImage};
+use crate::pprt::scene::Scene;
+use crate::pprt::settings::{Planning, TransferSettings, Visibility};
+use crate::pprt::transfer::precompute_planned;
 use serde::Serialize;
 use serde_json::json;
 use std::path::Path;
@@ -62,19 +62,19 @@ fn pprt_settings(setting: &str, l: usize, rays: usize) -> TransferSettings {
             l_low,
             l_high: high,
             rays,
-            shadows: false,
+            visibility: Visibility::Off,
         },
         "low_only" => TransferSettings {
             l_low: l,
             l_high: 0,
             rays,
-            shadows: true,
+            visibility: Visibility::Rays,
         },
         _ => TransferSettings {
             l_low,
             l_high: high,
             rays,
-            shadows: true,
+            visibility: Visibility::Rays,
         },
     }
 }
@@ -149,8 +149,8 @@ pub fn bench_error(
         for setting in ["full", "no_shadow", "low_only"] {
             let settings = pprt_settings(setting, l, options.rays);
             let t = Instant::now();
-            let plan = Plan::full(scene, settings)?;
-            let transfer = precompute_planned(scene, &plan, &ProgressBar::hidden())?;
+            let plan = Plan::new(scene, settings, Planning::Full)?;
+            let transfer = precompute_planned(scene, &plan, &crate::progress::Silent)?;
             let high = plan.high_fields();
             let precompute_s = t.elapsed().as_secs_f64();
             let t = Instant::now();

@@ -5,9 +5,9 @@
 //! planes (where the two-sided light's field has a kink) stay clear of the grid box; four
 //! tall wall lights beyond the floor cross its horizon and are clipped.
 
-use super::PolygonalLight;
+use crate::apps::light_scene::floor_points;
 use crate::error::Result;
-use crate::lights::scene::floor_points;
+use crate::lights::polygon::PolygonalLight;
 use crate::random::pseudo_random;
 
 /// Shading points and lights.

@@ -16,9 +16,9 @@
 //! - `psi_error_<material>.png`: `psi~ - psi` per channel; x as above, y from -0.25 to
 //!   0.25, grid every 0.05, the darker line is 0.
 
-use super::io_error;
-use super::plot::{LinePlot, Series};
+use crate::apps::plot::{LinePlot, Series};
 use crate::error::Result;
+use crate::io::io_error;
 use crate::optics::filter_table::{
     error_summary, psi_curves, sample_degrees, ErrorSummary, PsiCurve, SpecularSource,
     ERROR_LIMITS_DEGREES, SAMPLES,

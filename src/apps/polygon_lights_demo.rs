@@ -1,16 +1,16 @@
 //! `psh polygon-lights-demo`: many triangular lights over a floor
-//! ([`crate::lights::polygon::scene`]); per-vertex exact coefficients (SHG (4)-(5)) against
+//! ([`crate::apps::polygon_scene`]); per-vertex exact coefficients (SHG (4)-(5)) against
 //! uniform grids of coefficients and gradients (SHG (6)) interpolated trilinearly, by the
 //! zero-cross-derivative Hermite and by the cubic Hermite serendipity interpolant:
 //! errors and times (a table like SHG Sec. 7), with false-colour error images.
 
-use super::io_error;
-use super::lights_demo::{error_image, write_table};
+use crate::apps::light_scene::{exact_coefficients, grid_errors_with};
+use crate::apps::lights_demo::{error_image, write_table};
+use crate::apps::polygon_scene::demo_scene;
 use crate::error::Result;
+use crate::io::io_error;
 use crate::lights::grid::{Interpolation, Lattice, LightGrid, Refinement};
-use crate::lights::polygon::scene::demo_scene;
 use crate::lights::polygon::PolygonalLights;
-use crate::lights::scene::{exact_coefficients, grid_errors_with};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 

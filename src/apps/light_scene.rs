@@ -6,10 +6,12 @@
 //! and [`LightGrid::build`] reports such a point as an error), so the grid box, a thin
 //! slab around the floor, stays below the lowest near light.
 
-use super::grid::{Interpolation, LightGrid, LightSource};
+use crate::lights::grid::{Interpolation, LightGrid};
+use crate::lights::source::LightSource;
 
-use super::spherical::{Order, SphericalLight};
 use crate::error::Result;
+use crate::lights::source::Order;
+use crate::lights::spherical::SphericalLight;
 use crate::random::pseudo_random;
 
 /// Shading points and lights of the scene.

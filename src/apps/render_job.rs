@@ -2,114 +2,35 @@
 //! component, degree and angle of polarization, images through polarizers) and
 //! `report.json` with the time of every stage, the counts and the settings.
 
-use super::mesh::Mesh;
-use super::plan::Plan;
-use super::render::{background, primary_hits, render_frame, StokesImage};
-use super::scene::{Camera, EnvironmentSource, Scene, SceneMaterial, SceneObject};
-use super::sky::RayleighSky;
-use super::transfer::{precompute_planned, TransferSettings};
 use crate::error::{Error, Result};
 use crate::io::exr::write_stokes_image;
 use crate::io::png::{srgb8, write_png, write_stokes_pngs};
-use crate::optics::{Lambertian, Material, PolarizedPlastic};
-use crate::polarized::Codomain;
-use indicatif::{ProgressBar, ProgressStyle};
+use crate::polarized::SparsePshMatrix;
+use crate::pprt::plan::Plan;
+use crate::pprt::render::{background, primary_hits, render_frame, StokesImage};
+use crate::pprt::scene::Scene;
+use crate::pprt::settings::{Planning, TransferSettings, Visibility};
+use crate::pprt::transfer::precompute_planned;
+use crate::progress::Progress;
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// The built-in scene: a glossy dielectric sphere, a gold sphere and a gold torus on a
-/// diffuse ground plane under the Rayleigh sky (sun at 35 degrees elevation), seen from above the
-/// ground; environment band limit `lmax`.
-pub fn builtin_scene(lmax: usize, width: usize, height: usize) -> Result<Scene> {
-    let sky = RayleighSky::new(35f64.to_radians(), 2.4)?;
-    let materials = vec![
-        SceneMaterial::Plastic(PolarizedPlastic::new(0.6, 1.5, 0.6)?),
-        SceneMaterial::Plastic(PolarizedPlastic::new(0.15, 1.5, 0.2)?),
-        SceneMaterial::Conductor {
-            material: Material::Gold,
-            alpha: 0.2,
-        },
-    ];
-    Scene::new(
-        builtin_objects()?,
-        materials,
-        sky.project(lmax)?,
-        builtin_camera(width, height)?,
-    )?
-    .with_source(EnvironmentSource::Sky(sky))
-}
-
-/// The built-in scene's geometry and camera with nothing polarized: depolarizing
-/// Lambertian materials (grey ground, red and gold-coloured spheres, gold-coloured torus)
-/// under the sky's intensity `s0` alone (band limit `lmax`); the planner's scalar case
-/// ([`super::plan`]).
-pub fn builtin_unpolarized_scene(lmax: usize, width: usize, height: usize) -> Result<Scene> {
-    let sky = RayleighSky::new(35f64.to_radians(), 2.4)?
-        .project(lmax)?
-        .with_codomain(Codomain::Intensity)
-        .with_codomain(Codomain::Full);
-    let diffuse = |rgb: [f64; 3]| -> Result<SceneMaterial> {
-        Ok(SceneMaterial::Diffuse([
-            Lambertian::new(rgb[0])?,
-            Lambertian::new(rgb[1])?,
-            Lambertian::new(rgb[2])?,
-        ]))
-    };
-    let materials = vec![
-        diffuse([0.6, 0.6, 0.6])?,
-        diffuse([0.7, 0.15, 0.1])?,
-        diffuse([0.9, 0.7, 0.3])?,
-    ];
-    Scene::new(
-        builtin_objects()?,
-        materials,
-        sky,
-        builtin_camera(width, height)?,
-    )
-}
-
-/// The camera of the built-in scenes.
-fn builtin_camera(width: usize, height: usize) -> Result<Camera> {
-    Camera::look_at([0.0, -4.5, 2.2], [0.0, 0.0, 0.5], 0.75, width, height)
-}
-
-/// The objects of the built-in scenes (materials 0: ground, 1: left sphere, 2: right
-/// sphere and torus).
-fn builtin_objects() -> Result<Vec<SceneObject>> {
-    Ok(vec![
-        SceneObject {
-            mesh: Mesh::plane([0.0, 0.0, 0.0], 4.0, 24)?,
-            material: 0,
-        },
-        SceneObject {
-            mesh: Mesh::sphere([-0.8, 0.0, 0.7], 0.7, 32, 64)?,
-            material: 1,
-        },
-        SceneObject {
-            mesh: Mesh::sphere([0.9, 0.3, 0.6], 0.6, 32, 64)?,
-            material: 2,
-        },
-        SceneObject {
-            mesh: Mesh::torus([0.1, -1.3, 0.16], 0.42, 0.16, 64, 24)?,
-            material: 2,
-        },
-    ])
-}
-
-/// Renders `scene` with `settings` into `out` (created), planned within `tolerance`
-/// ([`Plan::new`]) or with everything computed (`None`, [`Plan::full`]): `render_s{0..3}.exr` (components
-/// in the camera's frames, [`super::render`]), `render_{s0,s1,s2,s3,dop,aop}.png`,
+/// Renders `scene` with `settings` into `out` (created), planned as `planning` says
+/// ([`Plan::new`]): `render_s{0..3}.exr` (components
+/// in the camera's frames, [`crate::pprt::render`]), `render_{s0,s1,s2,s3,dop,aop}.png`,
 /// `polarizer_{deg}.png` for each angle in `polarizers` (degrees from image-right towards
-/// image-up) and `report.json` (with the plan). Returns the report.
+/// image-up) and `report.json` (with the plan), reporting the precomputation to `progress`.
+/// Returns the report.
 pub fn render_job(
     scene: &Scene,
     settings: TransferSettings,
-    tolerance: Option<f64>,
+    planning: Planning,
     polarizers: &[f64],
     out: &Path,
+    progress: &dyn Progress,
 ) -> Result<serde_json::Value> {
-    Ok(render_to(scene, settings, tolerance, polarizers, out)?.0)
+    Ok(render_to(scene, settings, planning, polarizers, out, progress)?.0)
 }
 
 /// The ablation of PSH Figs. 20 and 21: the scene rendered [`render_job`]-style into
@@ -124,13 +45,16 @@ pub fn ablation_job(
     settings: TransferSettings,
     polarizers: &[f64],
     out: &Path,
+    progress: &dyn Progress,
 ) -> Result<serde_json::Value> {
-    if !settings.shadows || settings.l_high <= settings.l_low {
+    if !settings.shadows() || settings.l_high <= settings.l_low {
         return Err(Error::InvalidArgument {
             name: "ablation settings",
             value: format!(
                 "shadows {}, l_low {}, l_high {}",
-                settings.shadows, settings.l_low, settings.l_high
+                settings.shadows(),
+                settings.l_low,
+                settings.l_high
             ),
             reason: "the ablation adds shadows and high orders: shadows on and l_high > l_low"
                 .into(),
@@ -140,7 +64,7 @@ pub fn ablation_job(
         (
             "low_only",
             TransferSettings {
-                shadows: false,
+                visibility: Visibility::Off,
                 l_high: 0,
                 ..settings
             },
@@ -157,7 +81,14 @@ pub fn ablation_job(
     let mut rows = Vec::new();
     let mut panels = Vec::new();
     for (name, s) in variants {
-        let (report, image) = render_to(scene, s, None, polarizers, &out.join(name))?;
+        let (report, image) = render_to(
+            scene,
+            s,
+            Planning::Full,
+            polarizers,
+            &out.join(name),
+            progress,
+        )?;
         rows.push(
             json!({"variant": name, "settings": report["settings"], "times_s": report["times_s"]}),
         );
@@ -190,9 +121,10 @@ pub fn ablation_job(
 fn render_to(
     scene: &Scene,
     settings: TransferSettings,
-    tolerance: Option<f64>,
+    planning: Planning,
     polarizers: &[f64],
     out: &Path,
+    progress: &dyn Progress,
 ) -> Result<(serde_json::Value, StokesImage)> {
     std::fs::create_dir_all(out).map_err(|e| Error::Io {
         path: out.to_path_buf(),
@@ -204,22 +136,9 @@ fn render_to(
         .iter()
         .map(|o| o.mesh.positions().len())
         .sum();
-    // Drawn on stderr when it is a terminal, hidden otherwise.
-    let bar = ProgressBar::new(vertices as u64).with_style(
-        ProgressStyle::with_template("precompute {bar:40} {pos}/{len} vertices, {eta} left")
-            .map_err(|e| Error::InvalidArgument {
-                name: "progress template",
-                value: e.to_string(),
-                reason: "an indicatif template".into(),
-            })?,
-    );
-    let plan = match tolerance {
-        Some(t) => Plan::new(scene, settings, t)?,
-        None => Plan::full(scene, settings)?,
-    };
+    let plan = Plan::new(scene, settings, planning)?;
     let t_plan = t0.elapsed().as_secs_f64();
-    let transfer = precompute_planned(scene, &plan, &bar)?;
-    bar.finish_and_clear();
+    let transfer = precompute_planned(scene, &plan, progress)?;
     let t_pre = t0.elapsed().as_secs_f64() - t_plan;
     let residuals: Vec<Option<f64>> = plan
         .materials
@@ -258,12 +177,12 @@ fn render_to(
     let report = json!({
         "settings": {
             "l_low": settings.l_low, "l_high": settings.l_high, "rays_per_vertex": settings.rays,
-            "shadows": settings.shadows, "environment_lmax": scene.environment().lmax(),
+            "shadows": settings.shadows(), "environment_lmax": scene.environment().lmax(),
             "image": [cam.width, cam.height], "polarizers_deg": polarizers,
         },
         "counts": {
             "vertices": vertices, "triangles": scene.triangle_count(),
-            "visibility_directions": if plan.visibility == super::plan::Visibility::Rays {
+            "visibility_directions": if plan.visibility == Visibility::Rays {
                 vertices * settings.rays
             } else {
                 0
@@ -273,7 +192,7 @@ fn render_to(
                 3 * plan.codomain.components().len() * crate::sh::num_coeffs(settings.l_low),
             "degenerate_triangles_dropped": scene.objects().iter().map(|o| o.mesh.dropped()).sum::<usize>(),
         },
-        "plan": plan.to_json(),
+        "plan": plan_json(&plan),
         "high_order_projection_residual_per_material": residuals,
         "times_s": {
             "plan": t_plan, "precompute": t_pre, "primary_visibility_and_background": t_hits, "frame": t_frame,
@@ -314,4 +233,22 @@ fn write_polarizer_png(image: &StokesImage, deg: f64, out: &Path) -> Result<Path
     let path = out.join(format!("polarizer_{deg}.png"));
     write_png(&path, image.width, image.height, &rgb)?;
     Ok(path)
+}
+
+/// The plan as JSON (for reports): its tolerance, Stokes components, visibility, per
+/// material the storage and the high orders, and the reasons.
+fn plan_json(plan: &Plan) -> serde_json::Value {
+    json!({
+        "tolerance": plan.planning.tolerance(),
+        "stokes": plan.codomain.components(),
+        "visibility": format!("{:?}", plan.visibility),
+        "materials": plan.materials.iter().map(|m| json!({
+            "storage": format!("{:?}", m.sparsity),
+            "stored_entries": m.operators.iter().map(SparsePshMatrix::stored).sum::<usize>(),
+            "isotropy_defect": m.isotropy_defect,
+            "l_high": m.l_high,
+            "dropped_tail": m.dropped_tail,
+        })).collect::<Vec<_>>(),
+        "reasons": plan.reasons.iter().map(ToString::to_string).collect::<Vec<_>>(),
+    })
 }

@@ -44,13 +44,13 @@
 //! shared data directory (`$PSH_DATA_DIR`, else `../shared/data` from the working
 //! directory). Errors name the file and the field.
 
-use super::mesh::Mesh;
-use super::scene::{Camera, EnvironmentSource, Scene, SceneMaterial, SceneObject};
-use super::sky::RayleighSky;
-use super::transfer::TransferSettings;
 use crate::error::{Error, Result};
 use crate::optics::{Lambertian, Material, PolarizedPlastic};
 use crate::polarized::{Codomain, FieldArgument, PshRotation, PshVector};
+use crate::pprt::mesh::Mesh;
+use crate::pprt::scene::{Camera, EnvironmentSource, Scene, SceneMaterial, SceneObject};
+use crate::pprt::settings::{TransferSettings, Visibility};
+use crate::pprt::sky::RayleighSky;
 use nalgebra::{Rotation3, Vector3};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -128,11 +128,12 @@ struct SettingsSpec {
 
 impl Default for SettingsSpec {
     fn default() -> Self {
+        let d = TransferSettings::default();
         Self {
-            l_low: 4,
-            l_high: 9,
-            rays: 256,
-            shadows: true,
+            l_low: d.l_low,
+            l_high: d.l_high,
+            rays: d.rays,
+            shadows: d.shadows(),
             unpolarized_environment: false,
         }
     }
@@ -228,7 +229,11 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
         l_low: spec.settings.l_low,
         l_high: spec.settings.l_high,
         rays: spec.settings.rays,
-        shadows: spec.settings.shadows,
+        visibility: if spec.settings.shadows {
+            Visibility::Rays
+        } else {
+            Visibility::Off
+        },
     };
     let lmax = l_high.max(settings.l_low).max(settings.l_high);
     let field = |name: &str, e: Error| malformed(format!("{name}: {e}"));
@@ -360,7 +365,7 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
                 up,
             } => (
                 resolve(p)
-                    .and_then(Mesh::from_obj)
+                    .and_then(super::obj::read_obj)
                     .map(|m| m.rotated(&up.rotation())),
                 material,
             ),

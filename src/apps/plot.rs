@@ -3,8 +3,8 @@
 //! lines (solid or dashed) in given colours. Axis ranges and tick spacings are stated by
 //! the caller's documentation (the pictures carry no labels).
 
-use super::png::write_png;
 use crate::error::{Error, Result};
+use crate::io::png::write_png;
 use std::path::Path;
 
 /// One line: its colour, style and points `(x, y)` in data units.

@@ -1,0 +1,72 @@
+//! OBJ meshes (the `tobj` crate): all models of a file, triangulated, as one
+//! [`Mesh`].
+
+use super::malformed;
+use crate::error::Result;
+use crate::pprt::mesh::Mesh;
+use std::path::Path;
+
+/// Reads an OBJ file: all its models, triangulated; normals computed when the file lacks
+/// any; degenerate triangles dropped and counted ([`Mesh::from_soup`]). Errors name the
+/// file and the reason.
+pub fn read_obj(path: impl AsRef<Path>) -> Result<Mesh> {
+    let path = path.as_ref();
+    let opts = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ..Default::default()
+    };
+    let (models, _) = tobj::load_obj(path, &opts).map_err(|e| malformed(path, e.to_string()))?;
+    let (mut positions, mut normals, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
+    let mut all_normals = true;
+    for m in &models {
+        let base = positions.len() as u32;
+        let mesh = &m.mesh;
+        positions.extend(
+            mesh.positions
+                .chunks_exact(3)
+                .map(|p| [p[0], p[1], p[2]].map(f64::from)),
+        );
+        all_normals &= mesh.normals.len() == mesh.positions.len();
+        normals.extend(
+            mesh.normals
+                .chunks_exact(3)
+                .map(|p| [p[0], p[1], p[2]].map(f64::from)),
+        );
+        triangles.extend(
+            mesh.indices
+                .chunks_exact(3)
+                .map(|t| [t[0] + base, t[1] + base, t[2] + base]),
+        );
+    }
+    Mesh::from_soup(positions, all_normals.then_some(normals), triangles)
+        .map_err(|e| malformed(path, e.to_string()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn errors_name_the_file() {
+        let e = read_obj("/nonexistent/x.obj").unwrap_err();
+        assert!(e.to_string().contains("x.obj"), "{e}");
+    }
+
+    /// A quad and a degenerate triangle: two triangles kept, one dropped.
+    #[test]
+    fn reads_and_drops_degenerate_triangles() {
+        let dir = std::env::temp_dir().join(format!("psh-obj-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("quad.obj");
+        std::fs::write(
+            &p,
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nf 1 2 2\n",
+        )
+        .unwrap();
+        let m = read_obj(&p).unwrap();
+        assert_eq!((m.triangles().len(), m.dropped()), (2, 1));
+        assert!(m.normals().iter().all(|n| (n[2] - 1.0).abs() < 1e-15));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

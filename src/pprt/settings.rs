@@ -1,0 +1,89 @@
+//! What a precomputation is asked to do: band limits, visibility, rays
+//! ([`TransferSettings`]), and how much the planner may drop ([`Planning`]).
+
+use crate::error::{Error, Result};
+
+/// How visibility enters the transfer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Visibility {
+    /// Ray-cast visibility and its triple product per vertex (PSH (54)-(56)).
+    Rays,
+    /// Only the tangent plane occludes: one fixed shadowing matrix in the shading frame
+    /// (`proofs/tangent-plane-visibility.md`).
+    TangentPlane,
+    /// No shadows at all.
+    Off,
+}
+
+/// Settings of the precomputation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TransferSettings {
+    /// Band limit of the transfer (`l <= l_low`).
+    pub l_low: usize,
+    /// Band limit of the high orders by convolution (`l_low < l <= l_high`; none when
+    /// `l_high` is `l_low` or 0), [`super::reflected`].
+    pub l_high: usize,
+    /// Visibility rays per vertex (quasi-uniform Fibonacci directions).
+    pub rays: usize,
+    /// The visibility asked for. A plan within a tolerance replaces [`Visibility::Rays`]
+    /// by [`Visibility::TangentPlane`] when that is exact (one convex object).
+    pub visibility: Visibility,
+}
+
+impl Default for TransferSettings {
+    /// `l_low` 4, `l_high` 9, 256 rays, ray-cast shadows: the render job's defaults.
+    fn default() -> Self {
+        Self {
+            l_low: 4,
+            l_high: 9,
+            rays: 256,
+            visibility: Visibility::Rays,
+        }
+    }
+}
+
+impl TransferSettings {
+    /// Errors: `l_low` below 2 or above 20, `l_high` below `l_low` (other than 0, no high
+    /// orders), no rays with ray-cast visibility.
+    pub fn check(&self) -> Result<()> {
+        let l = self.l_low;
+        if !(2..=20).contains(&l)
+            || (self.visibility == Visibility::Rays && self.rays == 0)
+            || (self.l_high != 0 && self.l_high < l)
+        {
+            return Err(Error::InvalidArgument {
+                name: "transfer settings",
+                value: format!("l_low {l}, l_high {}, {} rays", self.l_high, self.rays),
+                reason: "2 <= l_low <= 20, l_high >= l_low (or 0: no high orders), and rays > 0 \
+                         with shadows"
+                    .into(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Whether the settings ask for shadows at all.
+    pub fn shadows(&self) -> bool {
+        self.visibility != Visibility::Off
+    }
+}
+
+/// How much the planner may drop.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Planning {
+    /// Nothing: full Stokes vectors, the visibility asked for, every nonzero entry, every
+    /// high order up to `l_high` (`psh render --no-plan`).
+    Full,
+    /// Whatever stays within this relative tolerance, in `(0, 1)`.
+    Tolerance(f64),
+}
+
+impl Planning {
+    /// The tolerance, `None` for [`Planning::Full`].
+    pub fn tolerance(self) -> Option<f64> {
+        match self {
+            Planning::Full => None,
+            Planning::Tolerance(t) => Some(t),
+        }
+    }
+}
