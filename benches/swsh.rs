@@ -3,7 +3,7 @@
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion};
 use num_complex::Complex64;
 use psh::sh::num_coeffs;
-use psh::swsh::transform::SpinTransform;
+use psh::swsh::SpinTransform;
 use psh::verify::pseudo_random;
 
 /// Spin-2 (linear polarization) transforms on the exact Gauss-Legendre grid: `sht_spin2`
