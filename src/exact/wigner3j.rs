@@ -1,5 +1,5 @@
 //! Exact Wigner 3j symbols and Gaunt coefficients (feature `exact`): oracles for
-//! [`crate::sh::gaunt`].
+//! [`crate::sh::wigner3j`] and [`crate::sh::gaunt`].
 //!
 //! Every 3j symbol with integer arguments is `± sqrt(r)` with `r` rational (Racah's formula,
 //! DLMF 34.2.4), computed here in exact integer/rational arithmetic ([`rug`]). Gaunt
@@ -16,7 +16,7 @@
 //! the sum computed separately), without the symmetry-based reduction used in `f64`.
 
 use crate::error::{Error, Result};
-use crate::sh::gaunt::MAX_GAUNT_DEGREE;
+use crate::sh::MAX_GAUNT_DEGREE;
 use rug::float::Constant;
 use rug::{Float, Integer, Rational};
 use std::cmp::Ordering;
@@ -430,7 +430,7 @@ pub fn real_gaunt_exact(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sh::gaunt;
+    use crate::sh::wigner_3j_row;
 
     fn q(n: i64, d: i64) -> Rational {
         Rational::from((n, d))
@@ -606,7 +606,7 @@ mod tests {
         assert!(SignedSqrt::new(2, q(1, 2)).is_err());
     }
 
-    /// The f64 rows of `crate::sh::gaunt` against Racah's formula up to degree 8192: samples
+    /// The f64 rows of `crate::sh::wigner3j` against Racah's formula up to degree 8192: samples
     /// of each row (both ends, the middle, the largest value and 150 points across), including
     /// the edge cases m = ±l whose rows peak at l3_min. Every value in the normal f64 range
     /// must be within one ulp (relative error <= 2^-52): the recursion runs in double-double,
@@ -631,7 +631,7 @@ mod tests {
         let one_ulp = f64::EPSILON;
         let mut max_rel: f64 = 0.0;
         for &(l1, l2, m1, m2) in cases {
-            let row = gaunt::wigner_3j_row(l1, l2, m1, m2).unwrap();
+            let row = wigner_3j_row(l1, l2, m1, m2).unwrap();
             let n = row.values().len();
             let argmax = (0..n)
                 .max_by(|&a, &b| row.values()[a].abs().total_cmp(&row.values()[b].abs()))

@@ -14,8 +14,8 @@
 
 use super::{Codomain, PshMatrix, PshVector};
 use crate::error::{Error, Result};
-use crate::sh::gaunt::{wigner_3j_row, wigner_3j_row_into, GauntBasis, GauntTable};
 use crate::sh::{check_lmax, lm_index, num_coeffs};
+use crate::sh::{wigner_3j_row, wigner_3j_row_into, GauntBasis, GauntTable};
 use num_complex::Complex64;
 use std::f64::consts::{FRAC_1_SQRT_2, PI};
 
@@ -93,7 +93,7 @@ pub struct TripleTable {
 impl TripleTable {
     /// The couplings of PSH (55) (real Gaunt table) and PSH (56) (closed form (T5) of
     /// `proofs/triple-products.md`). Errors: `lv` or `lmax` beyond the Gaunt table limit
-    /// ([`crate::sh::gaunt::MAX_TABLE_DEGREE`]).
+    /// ([`crate::sh::MAX_TABLE_DEGREE`]).
     pub fn new(lv: usize, lmax: usize) -> Result<Self> {
         Self::for_codomain(lv, lmax, Codomain::Full)
     }

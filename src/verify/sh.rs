@@ -2,13 +2,13 @@
 
 use super::{pseudo_random, Check};
 use crate::error::Result;
-use crate::sh::gaunt::{gaunt, real_gaunt};
 use crate::sh::grid::SphereGrid;
 use crate::sh::harmonics::{direction, direction_angles, sh_complex, sh_real, ShEvaluator};
 use crate::sh::legendre::{legendre_all, tri_index, zonal_legendre, Legendre, Polar};
 use crate::sh::transform::ShTransform;
 use crate::sh::wigner::{for_each_block, rotation_from_rotvec, RealWignerD, WignerD};
 use crate::sh::zonal::{funk_hecke, rotated_zonal_real, zonal_coefficients};
+use crate::sh::{gaunt, real_gaunt};
 use crate::sh::{lm_index, num_coeffs};
 use nalgebra::{Rotation3, Vector3};
 use num_complex::Complex64;
