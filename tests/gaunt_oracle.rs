@@ -164,7 +164,7 @@ fn f64_values_match_the_exact_fixture() {
             &entries(&doc, "wigner3j"),
             TOL_3J,
             bound_3j,
-            |e| wigner_3j(e.l[0], e.l[1], e.l[2], e.m[0], e.m[1], e.m[2]).unwrap(),
+            |e| wigner_3j(e.l[0], e.m[0], e.l[1], e.m[1], e.l[2], e.m[2]).unwrap(),
         ),
         check(
             "gaunt",

@@ -66,11 +66,11 @@ fn gaunt_checked(
     if m1 + m2 + m3 != 0 || !triangle(l1, l2, l3) || (l1 + l2 + l3) % 2 == 1 {
         return 0.0;
     }
-    let w0 = wigner_3j_checked(l1, l2, l3, 0, 0, 0, buf);
+    let w0 = wigner_3j_checked(l1, 0, l2, 0, l3, 0, buf);
     let wm = if m1 == 0 && m2 == 0 {
         w0
     } else {
-        wigner_3j_checked(l1, l2, l3, m1, m2, m3, buf)
+        wigner_3j_checked(l1, m1, l2, m2, l3, m3, buf)
     };
     gaunt_prefactor(l1, l2, l3) * w0 * wm
 }

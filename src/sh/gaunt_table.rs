@@ -89,7 +89,7 @@ impl GauntTable {
                     continue;
                 }
                 let hi = (l1 + l2).min(lmax_out);
-                let w0_min = row_unchecked(l1, l2, 0, 0, &mut w0);
+                let w0_min = row_unchecked(l1, 0, l2, 0, &mut w0);
                 let width = 2 * l2 + 1;
                 rows.clear();
                 rows.resize((2 * l1 + 1) * width, None);
@@ -98,7 +98,7 @@ impl GauntTable {
                         let key = (mu1 + l1 as i64) as usize * width + (mu2 + l2 as i64) as usize;
                         if rows[key].is_none() {
                             let mut v = Vec::new();
-                            let min = row_unchecked(l1, l2, mu1, mu2, &mut v);
+                            let min = row_unchecked(l1, mu1, l2, mu2, &mut v);
                             rows[key] = Some((min, v));
                         }
                         key

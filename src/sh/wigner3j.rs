@@ -6,6 +6,11 @@
 //! Schulten & Gordon (1975), run from both ends towards the middle and matched there (see
 //! `proofs/wigner3j-recursion.md`); [`wigner_3j`] gives a single symbol.
 //!
+//! # Argument order
+//! Every 3j and Gaunt function of the crate takes `(l, m)` pairs: `wigner_3j(l1, m1, l2, m2,
+//! l3, m3)` is `(l1 l2 l3; m1 m2 m3)`, `wigner_3j_row(l1, m1, l2, m2)` its row over `l3`, as
+//! `gaunt(l1, m1, l2, m2, l3, m3)` and `crate::exact::wigner3j::wigner_3j_exact`.
+//!
 //! # Accuracy and limits
 //! Degrees up to [`MAX_GAUNT_DEGREE`] are accepted. The recursion runs in double-double
 //! arithmetic (about 106 bits; Dekker 1971, Hida, Li & Bailey 2001) on values rescaled by
@@ -210,7 +215,7 @@ impl Dd {
     }
 }
 
-/// Coefficients of the three-term recursion in `j = l3` for fixed `(l1, l2, m1, m2)`,
+/// Coefficients of the three-term recursion in `j = l3` for fixed `(l1, m1, l2, m2)`,
 /// `m3 = -m1-m2` (Schulten & Gordon (1975), Sec. II; restated in Luscombe & Luban (1998)):
 ///
 /// `j A(j+1) f(j+1) + B(j) f(j) + (j+1) A(j) f(j-1) = 0`, with
@@ -229,7 +234,7 @@ struct Recursion {
 }
 
 impl Recursion {
-    fn new(l1: i64, l2: i64, m1: i64, m2: i64) -> Self {
+    fn new(l1: i64, m1: i64, l2: i64, m2: i64) -> Self {
         let m3 = -(m1 + m2);
         Recursion {
             d: l1 - l2,
@@ -291,21 +296,21 @@ thread_local! {
 
 /// The row `(l1 l2 l3; m1 m2 -m1-m2)`, `l3 = l3_min ..= l1+l2`, written into `out`; returns
 /// `l3_min`. Inputs must already satisfy `|m1| <= l1`, `|m2| <= l2`, degrees in range.
-pub(super) fn row_unchecked(l1: usize, l2: usize, m1: i64, m2: i64, out: &mut Vec<f64>) -> usize {
+pub(super) fn row_unchecked(l1: usize, m1: i64, l2: usize, m2: i64, out: &mut Vec<f64>) -> usize {
     SCRATCH.with(|s| {
         let mut s = s.borrow_mut();
-        row_dd(l1, l2, m1, m2, &mut s, out)
+        row_dd(l1, m1, l2, m2, &mut s, out)
     })
 }
 
-fn row_dd(l1: usize, l2: usize, m1: i64, m2: i64, buf: &mut Vec<Dd>, out: &mut Vec<f64>) -> usize {
+fn row_dd(l1: usize, m1: i64, l2: usize, m2: i64, buf: &mut Vec<Dd>, out: &mut Vec<f64>) -> usize {
     let (j1, j2) = (l1 as i64, l2 as i64);
     let m3 = -(m1 + m2);
     let jmin = (j1 - j2).abs().max(m3.abs());
     let jmax = j1 + j2;
     let n = (jmax - jmin + 1) as usize;
     let big = 2f64.powi(RESCALE_EXP);
-    let rec = Recursion::new(j1, j2, m1, m2);
+    let rec = Recursion::new(j1, m1, j2, m2);
 
     // Scratch layout: f | g | B | C1 | C2, each of length n, indexed by k = j - jmin, with the
     // recursion written as C2[k] f(j+1) + B[k] f(j) + C1[k] f(j-1) = 0,
@@ -503,9 +508,9 @@ impl Wigner3jRow {
 ///
 /// Cost `O(min(l1, l2))` (the row length `l1 + l2 - l3_min + 1 <= 2 min(l1, l2) + 1`). Errors: [`Error::DegreeOutOfRange`] if `l1` or `l2` exceeds
 /// [`MAX_GAUNT_DEGREE`], [`Error::OrderOutOfRange`] if `|m1| > l1` or `|m2| > l2`.
-pub fn wigner_3j_row(l1: usize, l2: usize, m1: i64, m2: i64) -> Result<Wigner3jRow> {
+pub fn wigner_3j_row(l1: usize, m1: i64, l2: usize, m2: i64) -> Result<Wigner3jRow> {
     let mut values = Vec::new();
-    let l3_min = wigner_3j_row_into(l1, l2, m1, m2, &mut values)?;
+    let l3_min = wigner_3j_row_into(l1, m1, l2, m2, &mut values)?;
     Ok(Wigner3jRow { l3_min, values })
 }
 
@@ -513,18 +518,17 @@ pub fn wigner_3j_row(l1: usize, l2: usize, m1: i64, m2: i64) -> Result<Wigner3jR
 /// and returning `l3_min`; `out[i]` is the symbol for `l3 = l3_min + i`.
 pub fn wigner_3j_row_into(
     l1: usize,
-    l2: usize,
     m1: i64,
+    l2: usize,
     m2: i64,
     out: &mut Vec<f64>,
 ) -> Result<usize> {
     check_degree_order("l1", "m1", l1, m1)?;
     check_degree_order("l2", "m2", l2, m2)?;
-    Ok(row_unchecked(l1, l2, m1, m2, out))
+    Ok(row_unchecked(l1, m1, l2, m2, out))
 }
 
-/// One Wigner 3j symbol `(l1 l2 l3; m1 m2 m3)` (arguments in the order of the symbol's top and
-/// bottom rows).
+/// One Wigner 3j symbol `(l1 l2 l3; m1 m2 m3)`, arguments in `(l, m)` pairs.
 ///
 /// Exact zero, without computation, unless `m1+m2+m3 = 0`, the triangle condition
 /// `|l1-l2| <= l3 <= l1+l2` holds, and (when `m1 = m2 = m3 = 0`) `l1+l2+l3` is even
@@ -534,21 +538,21 @@ pub fn wigner_3j_row_into(
 ///
 /// Errors: [`Error::DegreeOutOfRange`] for a degree above [`MAX_GAUNT_DEGREE`],
 /// [`Error::OrderOutOfRange`] for `|m_i| > l_i`.
-pub fn wigner_3j(l1: usize, l2: usize, l3: usize, m1: i64, m2: i64, m3: i64) -> Result<f64> {
+pub fn wigner_3j(l1: usize, m1: i64, l2: usize, m2: i64, l3: usize, m3: i64) -> Result<f64> {
     check_degree_order("l1", "m1", l1, m1)?;
     check_degree_order("l2", "m2", l2, m2)?;
     check_degree_order("l3", "m3", l3, m3)?;
     let mut buf = Vec::new();
-    Ok(wigner_3j_checked(l1, l2, l3, m1, m2, m3, &mut buf))
+    Ok(wigner_3j_checked(l1, m1, l2, m2, l3, m3, &mut buf))
 }
 
 /// [`wigner_3j`] after the input checks; `buf` is scratch space.
 pub(super) fn wigner_3j_checked(
     l1: usize,
-    l2: usize,
-    l3: usize,
     m1: i64,
+    l2: usize,
     m2: i64,
+    l3: usize,
     m3: i64,
     buf: &mut Vec<f64>,
 ) -> f64 {
@@ -566,7 +570,7 @@ pub(super) fn wigner_3j_checked(
     } else {
         (l3, l1, l2, m3, m1)
     };
-    let cmin = row_unchecked(a, b, ma, mb, buf);
+    let cmin = row_unchecked(a, ma, b, mb, buf);
     buf[c - cmin]
 }
 
@@ -611,13 +615,13 @@ pub(super) mod tests {
         let mut max_err: f64 = 0.0;
         let entries = gaunt_entries("wigner3j").unwrap();
         for &(l, m, exact) in &entries {
-            let row = wigner_3j_row(l[0], l[1], m[0], m[1]).unwrap();
+            let row = wigner_3j_row(l[0], m[0], l[1], m[1]).unwrap();
             assert_eq!(row.l3_max(), l[0] + l[1]);
             assert_eq!(row.get(l[0] + l[1] + 1), 0.0);
             if row.l3_min() > 0 {
                 assert_eq!(row.get(row.l3_min() - 1), 0.0);
             }
-            let single = wigner_3j(l[0], l[1], l[2], m[0], m[1], m[2]).unwrap();
+            let single = wigner_3j(l[0], m[0], l[1], m[1], l[2], m[2]).unwrap();
             max_err = max_err.max((row.get(l[2]) - exact).abs());
             max_err = max_err.max((single - exact).abs());
         }
@@ -633,7 +637,7 @@ pub(super) mod tests {
                 if m.unsigned_abs() as usize > l {
                     continue;
                 }
-                let v = wigner_3j(l, l, 0, m, -m, 0).unwrap();
+                let v = wigner_3j(l, m, l, -m, 0, 0).unwrap();
                 let s = if (l as i64 - m).rem_euclid(2) == 0 {
                     1.0
                 } else {
@@ -643,7 +647,7 @@ pub(super) mod tests {
                 assert!((v - e).abs() <= 1e-15 * e.abs(), "l={l} m={m}: {v} vs {e}");
                 // DLMF 34.3.2: (l l 1; m -m 0) = (-1)^{l-m} 2m / sqrt(2l(2l+1)(2l+2)).
                 if l >= 1 {
-                    let v1 = wigner_3j(l, l, 1, m, -m, 0).unwrap();
+                    let v1 = wigner_3j(l, m, l, -m, 1, 0).unwrap();
                     let e1 = s * 2.0 * m as f64
                         / ((2 * l) as f64 * (2 * l + 1) as f64 * (2 * l + 2) as f64).sqrt();
                     assert!(
@@ -721,7 +725,7 @@ pub(super) mod tests {
                 -1.0
             };
             let e = s * mag;
-            let row = wigner_3j_row(l1 as usize, l2 as usize, m1, m2).unwrap();
+            let row = wigner_3j_row(l1 as usize, m1, l2 as usize, m2).unwrap();
             let v = row.get((l1 + l2) as usize);
             let tol = if big { 1e-12 } else { 2e-14 };
             assert!(
@@ -757,7 +761,7 @@ pub(super) mod tests {
             )
             .expect("(l1 l2 l3; 0 0 0) is within the f64 range here");
             let e = if g % 2 == 0 { 1.0 } else { -1.0 } * mag;
-            let v = wigner_3j(l1 as usize, l2 as usize, l3 as usize, 0, 0, 0).unwrap();
+            let v = wigner_3j(l1 as usize, 0, l2 as usize, 0, l3 as usize, 0).unwrap();
             let tol = if big { 1e-12 } else { 2e-14 };
             assert!(
                 (v - e).abs() <= tol * e.abs(),
@@ -766,7 +770,7 @@ pub(super) mod tests {
             // Odd J vanishes exactly.
             if l3 < l1 + l2 {
                 assert_eq!(
-                    wigner_3j(l1 as usize, l2 as usize, (l3 + 1) as usize, 0, 0, 0).unwrap(),
+                    wigner_3j(l1 as usize, 0, l2 as usize, 0, (l3 + 1) as usize, 0).unwrap(),
                     0.0
                 );
             }
@@ -796,7 +800,7 @@ pub(super) mod tests {
                 if m2.abs() > j2 {
                     continue;
                 }
-                let rmin = wigner_3j_row_into(l1, l2, m1, m2, &mut row).unwrap();
+                let rmin = wigner_3j_row_into(l1, m1, l2, m2, &mut row).unwrap();
                 assert_eq!(rmin, jmin);
                 for i in 0..n {
                     for k in 0..n {
@@ -832,7 +836,7 @@ pub(super) mod tests {
             for m1 in -j1..=j1 {
                 let m2 = msum - m1;
                 if m2.abs() <= j2 && (m1 % 97 == 0 || l1 < 100) {
-                    rows.push(wigner_3j_row(l1, l2, m1, m2).unwrap());
+                    rows.push(wigner_3j_row(l1, m1, l2, m2).unwrap());
                 }
             }
             let mut err: f64 = 0.0;
@@ -869,12 +873,12 @@ pub(super) mod tests {
             let m3 = -m1 - m2;
             let (u1, u2, u3) = (l1 as usize, l2 as usize, l3 as usize);
             let p = if (l1 + l2 + l3) % 2 == 0 { 1.0 } else { -1.0 };
-            let r12 = wigner_3j_row(u1, u2, m1, m2).unwrap().get(u3);
-            let r23 = wigner_3j_row(u2, u3, m2, m3).unwrap().get(u1);
-            let r31 = wigner_3j_row(u3, u1, m3, m1).unwrap().get(u2);
-            let r21 = wigner_3j_row(u2, u1, m2, m1).unwrap().get(u3);
-            let r13 = wigner_3j_row(u1, u3, m1, m3).unwrap().get(u2);
-            let rneg = wigner_3j_row(u1, u2, -m1, -m2).unwrap().get(u3);
+            let r12 = wigner_3j_row(u1, m1, u2, m2).unwrap().get(u3);
+            let r23 = wigner_3j_row(u2, m2, u3, m3).unwrap().get(u1);
+            let r31 = wigner_3j_row(u3, m3, u1, m1).unwrap().get(u2);
+            let r21 = wigner_3j_row(u2, m2, u1, m1).unwrap().get(u3);
+            let r13 = wigner_3j_row(u1, m1, u3, m3).unwrap().get(u2);
+            let rneg = wigner_3j_row(u1, -m1, u2, -m2).unwrap().get(u3);
             // Each value is the correctly rounded f64 of a double-double result, so two
             // evaluations differ by at most one ulp; at nontrivial zeros both are tiny compared
             // with the a-priori bound |3j| <= 1/sqrt(2 l + 1) (normalization in l).
@@ -898,12 +902,12 @@ pub(super) mod tests {
 
     #[test]
     fn selection_rules_give_exact_zeros() {
-        assert_eq!(wigner_3j(2, 3, 4, 1, 1, -1).unwrap(), 0.0); // m sum
-        assert_eq!(wigner_3j(2, 3, 6, 0, 0, 0).unwrap(), 0.0); // triangle
-        assert_eq!(wigner_3j(1, 1, 1, 0, 0, 0).unwrap(), 0.0); // parity
-        assert_eq!(wigner_3j(3, 3, 3, 1, 1, -2).unwrap(), 0.0); // l1 = l2, m1 = m2, odd J
+        assert_eq!(wigner_3j(2, 1, 3, 1, 4, -1).unwrap(), 0.0); // m sum
+        assert_eq!(wigner_3j(2, 0, 3, 0, 6, 0).unwrap(), 0.0); // triangle
+        assert_eq!(wigner_3j(1, 0, 1, 0, 1, 0).unwrap(), 0.0); // parity
+        assert_eq!(wigner_3j(3, 1, 3, 1, 3, -2).unwrap(), 0.0); // l1 = l2, m1 = m2, odd J
                                                                 // Rows: structural zeros of the two-step recursion are exact.
-        let r = wigner_3j_row(5, 7, 0, 0).unwrap();
+        let r = wigner_3j_row(5, 0, 7, 0).unwrap();
         for (l3, v) in r.iter() {
             if (5 + 7 + l3) % 2 == 1 {
                 assert_eq!(v, 0.0);
@@ -916,19 +920,19 @@ pub(super) mod tests {
     #[test]
     fn bad_input_is_an_error() {
         assert!(matches!(
-            wigner_3j(1, 1, 1, 2, 0, -2),
+            wigner_3j(1, 2, 1, 0, 1, -2),
             Err(Error::OrderOutOfRange { name: "m1", .. })
         ));
         assert!(matches!(
-            wigner_3j(1, 1, 1, 0, 0, -3),
+            wigner_3j(1, 0, 1, 0, 1, -3),
             Err(Error::OrderOutOfRange { name: "m3", .. })
         ));
         assert!(matches!(
-            wigner_3j_row(3, 2, 0, 5),
+            wigner_3j_row(3, 0, 2, 5),
             Err(Error::OrderOutOfRange { name: "m2", .. })
         ));
         assert!(matches!(
-            wigner_3j(MAX_GAUNT_DEGREE + 1, 1, 1, 0, 0, 0),
+            wigner_3j(MAX_GAUNT_DEGREE + 1, 0, 1, 0, 1, 0),
             Err(Error::DegreeOutOfRange { name: "l1", .. })
         ));
     }
@@ -944,7 +948,7 @@ pub(super) mod tests {
             (5000, 4000, 0, 0),
             (6000, 6000, 17, 17),
         ] {
-            let row = wigner_3j_row(l1, l2, m1, m2).unwrap();
+            let row = wigner_3j_row(l1, m1, l2, m2).unwrap();
             let mut acc = Neumaier::default();
             for (l3, v) in row.iter() {
                 assert!(v.is_finite());

@@ -179,9 +179,7 @@ pub fn gaunt_entries(key: &str) -> Result<Vec<GauntEntry>> {
 pub fn gaunt_coefficients() -> Result<f64> {
     type F = fn(usize, i64, usize, i64, usize, i64) -> Result<f64>;
     let lists: [(&str, F); 4] = [
-        ("wigner3j", |l1, m1, l2, m2, l3, m3| {
-            wigner_3j(l1, l2, l3, m1, m2, m3)
-        }),
+        ("wigner3j", wigner_3j),
         ("gaunt", gaunt),
         ("gaunt_product", gaunt_product),
         ("real_gaunt", real_gaunt),
