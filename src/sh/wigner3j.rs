@@ -13,7 +13,7 @@
 //!
 //! # Accuracy and limits
 //! Degrees up to [`MAX_GAUNT_DEGREE`] are accepted. The recursion runs in double-double
-//! arithmetic (about 106 bits; Dekker 1971, Hida, Li & Bailey 2001) on values rescaled by
+//! arithmetic (`sh::double_double`, about 106 bits) on values rescaled by
 //! exact powers of two, so nothing overflows and the only sizeable error of a 3j symbol is
 //! its final rounding to f64: against exact values (Racah's formula in rational arithmetic,
 //! `crate::exact::wigner3j`) the symbols are within one ulp, in practice correctly rounded,
@@ -25,6 +25,7 @@
 //! vanish) give exact zeros without computation. Cost: about 60-120 ns per symbol of a row
 //! (double-double with and without hardware FMA).
 
+use super::double_double::Dd;
 use crate::error::{Error, Result};
 use crate::sh::MAX_DEGREE;
 
@@ -80,141 +81,6 @@ pub(super) fn triangle(l1: usize, l2: usize, l3: usize) -> bool {
 // 3j recursion
 // ---------------------------------------------------------------------------------------
 
-/// Double-double number `hi + lo` (`|lo| <= ulp(hi)/2`), about 106 significant bits, built from
-/// the error-free transformations of Dekker (1971) and Knuth (TAOCP vol. 2, 4.2.2), following
-/// the double-double algorithms published by Hida, Li & Bailey (2001). Used so that the 3j
-/// recursion keeps its rounding errors far below f64 resolution even over rows of thousands
-/// of steps (see `proofs/wigner3j-recursion.md`).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-struct Dd {
-    hi: f64,
-    lo: f64,
-}
-
-/// `a + b = s + e` exactly.
-#[inline]
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    let bb = s - a;
-    (s, (a - (s - bb)) + (b - bb))
-}
-
-/// `a + b = s + e` exactly, for `|a| >= |b|`.
-#[inline]
-fn quick_two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    (s, b - (s - a))
-}
-
-/// Veltkamp splitting `a = hi + lo` into two 26-bit halves.
-#[cfg(not(target_feature = "fma"))]
-#[inline]
-fn split(a: f64) -> (f64, f64) {
-    let t = 134_217_729.0 * a; // 2^27 + 1
-    let hi = t - (t - a);
-    (hi, a - hi)
-}
-
-/// `a b = p + e` exactly, by a fused multiply-add where the target has one.
-#[cfg(target_feature = "fma")]
-#[inline]
-fn two_prod(a: f64, b: f64) -> (f64, f64) {
-    let p = a * b;
-    (p, a.mul_add(b, -p))
-}
-
-/// `a b = p + e` exactly (Dekker).
-#[cfg(not(target_feature = "fma"))]
-#[inline]
-fn two_prod(a: f64, b: f64) -> (f64, f64) {
-    let p = a * b;
-    let (ah, al) = split(a);
-    let (bh, bl) = split(b);
-    (p, ((ah * bh - p) + ah * bl + al * bh) + al * bl)
-}
-
-impl Dd {
-    const ZERO: Dd = Dd { hi: 0.0, lo: 0.0 };
-
-    #[inline]
-    fn from_f64(x: f64) -> Dd {
-        Dd { hi: x, lo: 0.0 }
-    }
-
-    #[inline]
-    fn neg(self) -> Dd {
-        Dd {
-            hi: -self.hi,
-            lo: -self.lo,
-        }
-    }
-
-    #[inline]
-    fn add(self, b: Dd) -> Dd {
-        let (s, e) = two_sum(self.hi, b.hi);
-        let (t, f) = two_sum(self.lo, b.lo);
-        let (s, e) = quick_two_sum(s, e + t);
-        let (hi, lo) = quick_two_sum(s, e + f);
-        Dd { hi, lo }
-    }
-
-    #[inline]
-    fn sub(self, b: Dd) -> Dd {
-        self.add(b.neg())
-    }
-
-    #[inline]
-    fn mul(self, b: Dd) -> Dd {
-        let (p, e) = two_prod(self.hi, b.hi);
-        let (hi, lo) = quick_two_sum(p, e + (self.hi * b.lo + self.lo * b.hi));
-        Dd { hi, lo }
-    }
-
-    #[inline]
-    fn mul_f64(self, b: f64) -> Dd {
-        let (p, e) = two_prod(self.hi, b);
-        let (hi, lo) = quick_two_sum(p, e + self.lo * b);
-        Dd { hi, lo }
-    }
-
-    /// Multiplication by a power of two (exact barring underflow).
-    #[inline]
-    fn scale(self, p2: f64) -> Dd {
-        Dd {
-            hi: self.hi * p2,
-            lo: self.lo * p2,
-        }
-    }
-
-    /// Division (two quotient digits, relative error about `2^-104`).
-    #[inline]
-    fn div(self, b: Dd) -> Dd {
-        let q1 = self.hi / b.hi;
-        let r = self.sub(b.mul_f64(q1));
-        let q2 = r.hi / b.hi;
-        let (hi, lo) = quick_two_sum(q1, q2);
-        Dd { hi, lo }
-    }
-
-    /// Square root (one Newton correction of the f64 root).
-    #[inline]
-    fn sqrt(self) -> Dd {
-        if self.hi <= 0.0 {
-            return Dd::ZERO;
-        }
-        let x = self.hi.sqrt();
-        let (p, e) = two_prod(x, x);
-        let r = self.sub(Dd { hi: p, lo: e });
-        let (hi, lo) = quick_two_sum(x, r.hi / (2.0 * x));
-        Dd { hi, lo }
-    }
-
-    #[inline]
-    fn abs(self) -> f64 {
-        self.hi.abs()
-    }
-}
-
 /// Coefficients of the three-term recursion in `j = l3` for fixed `(l1, m1, l2, m2)`,
 /// `m3 = -m1-m2` (Schulten & Gordon (1975), Sec. II; restated in Luscombe & Luban (1998)):
 ///
@@ -250,16 +116,13 @@ impl Recursion {
         let f1 = ((j - self.d) * (j + self.d)) as f64;
         let f2 = ((self.s - j) * (self.s + j)) as f64;
         let f3 = ((j - self.m3) * (j + self.m3)) as f64;
-        let (p, e) = two_prod(f1, f2); // exact: f1 f2 < 2^64
-        let (hi, lo) = two_prod(p, f3);
-        let (hi, lo) = quick_two_sum(hi, lo + e * f3); // e f3 exact: e < 2^12
-        Dd { hi, lo }.sqrt()
+        // f1 f2 < 2^64 exact; e f3 exact for its low part e < 2^12.
+        (Dd::product(f1, f2) * f3).sqrt()
     }
     #[inline]
     fn b(&self, j: i64) -> Dd {
         let inner = (self.m3 * self.c_b - j * (j + 1) * self.dm) as f64; // |.| < 2^53
-        let (hi, lo) = two_prod(-((2 * j + 1) as f64), inner);
-        Dd { hi, lo }
+        Dd::product(-((2 * j + 1) as f64), inner)
     }
 }
 
@@ -283,10 +146,10 @@ fn match_factors(x: &[Dd], y: &[Dd]) -> (Dd, Dd) {
     let (mut sxx, mut sxy) = (Dd::ZERO, Dd::ZERO);
     for (a, b) in x.iter().zip(y) {
         let (a, b) = (a.scale(px), b.scale(py));
-        sxx = sxx.add(a.mul(a));
-        sxy = sxy.add(a.mul(b));
+        sxx = sxx + a * a;
+        sxy = sxy + a * b;
     }
-    (sxy.div(sxx).scale(px), Dd::from_f64(py))
+    ((sxy / sxx).scale(px), Dd::from_f64(py))
 }
 
 thread_local! {
@@ -326,8 +189,8 @@ fn row_dd(l1: usize, m1: i64, l2: usize, m2: i64, buf: &mut Vec<Dd>, out: &mut V
         let j = jmin + k as i64;
         let a_next = rec.a(j + 1);
         bj[k] = rec.b(j);
-        c1[k] = a_j.mul_f64((j + 1) as f64);
-        c2[k] = a_next.mul_f64(j as f64);
+        c1[k] = a_j * (j + 1) as f64;
+        c2[k] = a_next * j as f64;
         a_j = a_next;
     }
 
@@ -336,17 +199,17 @@ fn row_dd(l1: usize, m1: i64, l2: usize, m2: i64, buf: &mut Vec<Dd>, out: &mut V
     let top_negative;
     // The row is assembled in f.
     if n == 1 {
-        f[0] = Dd::from_f64(1.0);
+        f[0] = Dd::ONE;
         top_negative = false;
     } else if m1 == m2 && (m1 == 0 || j1 == j2) {
         // B(j) vanishes identically: every other symbol is zero (for m1 = m2 = 0 by the parity
         // rule, for l1 = l2, m1 = m2 by the odd column permutation, DLMF 34.3.9), and the
         // recursion reduces to the two-step first-order recursion
         // f(j+1) = -(j+1) A(j) / (j A(j+1)) f(j-1), stable in either direction.
-        f[0] = Dd::from_f64(1.0);
+        f[0] = Dd::ONE;
         let mut k = 2;
         while k < n {
-            f[k] = c1[k - 1].div(c2[k - 1]).mul(f[k - 2]).neg();
+            f[k] = -(c1[k - 1] / c2[k - 1] * f[k - 2]);
             if f[k].abs() > big {
                 rescale(&mut f[..=k]);
             }
@@ -359,16 +222,14 @@ fn row_dd(l1: usize, m1: i64, l2: usize, m2: i64, buf: &mut Vec<Dd>, out: &mut V
         let kmax = n - 1;
         // f[k+1] from f[k], f[k-1].
         let forward = |k: usize, f: &mut [Dd]| {
-            let num = bj[k].mul(f[k]).add(c1[k].mul(f[k - 1]));
-            f[k + 1] = num.div(c2[k]).neg();
+            f[k + 1] = -((bj[k] * f[k] + c1[k] * f[k - 1]) / c2[k]);
             if f[k + 1].abs() > big {
                 rescale(&mut f[..=k + 1]);
             }
         };
         // g[k-1] from g[k], g[k+1].
         let backward = |k: usize, g: &mut [Dd]| {
-            let num = bj[k].mul(g[k]).add(c2[k].mul(g[k + 1]));
-            g[k - 1] = num.div(c1[k]).neg();
+            g[k - 1] = -((bj[k] * g[k] + c2[k] * g[k + 1]) / c1[k]);
             if g[k - 1].abs() > big {
                 rescale(&mut g[k - 1..]);
             }
@@ -383,15 +244,15 @@ fn row_dd(l1: usize, m1: i64, l2: usize, m2: i64, buf: &mut Vec<Dd>, out: &mut V
         // |W(k)| / |W(k-1)| >= (d-1)/d at distance d from its start.
         //
         // Forward from l3 = jmin.
-        f[0] = Dd::from_f64(1.0);
+        f[0] = Dd::ONE;
         f[1] = if jmin == 0 {
             // jmin = 0 means l1 = l2 and m3 = 0: A(0) = 0 and the recursion at j = 0 is empty.
             // Start from the ratio (l l 1; m -m 0) / (l l 0; m -m 0) = m / sqrt(l(l+1))
             // (DLMF 34.3.1, 34.3.2).
-            Dd::from_f64(m1 as f64).div(Dd::from_f64((j1 * (j1 + 1)) as f64).sqrt())
+            Dd::from_f64(m1 as f64) / Dd::from_f64((j1 * (j1 + 1)) as f64).sqrt()
         } else {
             // A(jmin) = 0 removes f(jmin - 1).
-            bj[0].div(c2[0]).neg()
+            -(bj[0] / c2[0])
         };
         let mut kf = 1; // highest computed index of f
         while kf < kmax - 1 && kf as f64 * f[kf].abs() >= (kf - 1) as f64 * f[kf - 1].abs() {
@@ -399,8 +260,8 @@ fn row_dd(l1: usize, m1: i64, l2: usize, m2: i64, buf: &mut Vec<Dd>, out: &mut V
             kf += 1;
         }
         // Backward from l3 = jmax, where A(jmax + 1) = 0, down to the forward's range at most.
-        g[kmax] = Dd::from_f64(1.0);
-        g[kmax - 1] = bj[kmax].div(c1[kmax]).neg();
+        g[kmax] = Dd::ONE;
+        g[kmax - 1] = -(bj[kmax] / c1[kmax]);
         let mut kg = kmax - 1; // lowest computed index of g
         while kg > kf {
             let d = (kmax - kg) as f64; // distance of g[kg] from the start
@@ -427,10 +288,10 @@ fn row_dd(l1: usize, m1: i64, l2: usize, m2: i64, buf: &mut Vec<Dd>, out: &mut V
         // accidental zero at one point) and splice them at kmid.
         let (cf, cg) = match_factors(&f[lo..=hi], &g[lo..=hi]);
         for v in &mut f[..kmid] {
-            *v = v.mul(cf);
+            *v = *v * cf;
         }
-        for (v, w) in f[kmid..].iter_mut().zip(&g[kmid..]) {
-            *v = w.mul(cg);
+        for (v, &w) in f[kmid..].iter_mut().zip(&g[kmid..]) {
+            *v = w * cg;
         }
         // The backward start value 1 was only scaled by positive factors since.
         top_negative = false;
@@ -444,16 +305,16 @@ fn row_dd(l1: usize, m1: i64, l2: usize, m2: i64, buf: &mut Vec<Dd>, out: &mut V
     let mut acc = Dd::ZERO;
     for (k, v) in row.iter_mut().enumerate() {
         *v = v.scale(p2);
-        acc = acc.add(v.mul(*v).mul_f64((2 * (jmin + k as i64) + 1) as f64));
+        acc = acc + *v * *v * (2 * (jmin + k as i64) + 1) as f64;
     }
     let want_negative = (j1 - j2 - m3).rem_euclid(2) == 1;
-    let mut c = Dd::from_f64(1.0).div(acc.sqrt());
+    let mut c = Dd::ONE / acc.sqrt();
     if want_negative != top_negative {
-        c = c.neg();
+        c = -c;
     }
     out.clear();
-    out.extend(row.iter().map(|v| {
-        let x = v.mul(c);
+    out.extend(row.iter().map(|&v| {
+        let x = v * c;
         x.hi + x.lo
     }));
     jmin as usize
