@@ -85,10 +85,14 @@ impl Dd {
         Dd { hi, lo }
     }
 
-    /// `a / b` (relative error about `2^-104`).
+    /// `a / b` (relative error about `2^-104`): the division below for f64 operands, where
+    /// `a - q1 b` is `(a - p) - e` with `a - p` exact.
     #[inline]
     pub(crate) fn quotient(a: f64, b: f64) -> Dd {
-        Dd::from_f64(a) / Dd::from_f64(b)
+        let q1 = a / b;
+        let (p, e) = two_prod(q1, b);
+        let (hi, lo) = quick_two_sum(q1, ((a - p) - e) / b);
+        Dd { hi, lo }
     }
 
     /// Multiplication by a power of two (exact barring underflow).
