@@ -14,10 +14,10 @@ use psh::pprt::render::{background, primary_hits, render_frame};
 use psh::pprt::scene::{Hit, Scene};
 use psh::pprt::transfer::{precompute_planned, ray_visibility, VisibilityRays};
 use psh::pprt::TransferSettings;
-use psh::sh::gaunt::{GauntBasis, GauntTable};
 use psh::sh::harmonics::ShEvaluator;
 use psh::sh::num_coeffs;
 use psh::sh::wigner::RealWignerD;
+use psh::sh::{GauntBasis, GauntTable};
 use rayon::prelude::*;
 use std::time::Instant;
 

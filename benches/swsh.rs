@@ -4,7 +4,7 @@ use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criteri
 use num_complex::Complex64;
 use psh::random::pseudo_random;
 use psh::sh::num_coeffs;
-use psh::swsh::transform::SpinTransform;
+use psh::swsh::SpinTransform;
 
 /// Spin-2 (linear polarization) transforms on the exact Gauss-Legendre grid: `sht_spin2`
 /// on every core (rayon's pool), `sht_spin2_1thread` on one (ducc0's default).

@@ -158,7 +158,7 @@ mod imp {
                             if m3.abs() > l3 || (m1 == 0 && m2 == 0 && (l1 + l2 + l3) % 2 == 1) {
                                 continue;
                             }
-                            if wigner_3j_exact(u(l1), u(l2), u(l3), m1, m2, m3)?.is_zero() {
+                            if wigner_3j_exact(u(l1), m1, u(l2), m2, u(l3), m3)?.is_zero() {
                                 if found % 4 == 0 {
                                     w3j.insert(([l1, l2, l3], [m1, m2, m3]));
                                 }
@@ -173,7 +173,7 @@ mod imp {
         let mut n3j = 0;
         for key in &w3j {
             let (l, m) = key;
-            let v = wigner_3j_exact(u(l[0]), u(l[1]), u(l[2]), m[0], m[1], m[2])?;
+            let v = wigner_3j_exact(u(l[0]), m[0], u(l[1]), m[1], u(l[2]), m[2])?;
             let structural = m.iter().all(|&x| x == 0) && (l[0] + l[1] + l[2]) % 2 == 1;
             if v.is_zero() {
                 if structural {

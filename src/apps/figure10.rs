@@ -21,7 +21,7 @@ use crate::sh::num_coeffs;
 use crate::sh::transform::ShTransform;
 use crate::stokes::{StokesComponents, StokesVector};
 use crate::swsh::swsh;
-use crate::swsh::transform::SpinTransform;
+use crate::swsh::SpinTransform;
 use nalgebra::{Rotation3, Vector3};
 use num_complex::Complex64;
 

@@ -290,7 +290,7 @@ enum Eval {
     /// Scalar SH transform (psh::sh::transform::ShTransform) on the Gauss-Legendre grid of
     /// lmax + 1 rings by 2 lmax + 2 meridians, .npy in and out.
     Sht(ShtArgs),
-    /// Spin-weighted SH transform (psh::swsh::transform::SpinTransform) on the same grid,
+    /// Spin-weighted SH transform (psh::swsh::SpinTransform) on the same grid,
     /// .npy in and out (complex as [re, im]).
     SpinSht(SpinShtArgs),
     /// Fresnel reflection of a planar interface (psh::optics::fresnel): amplitude
@@ -1239,7 +1239,7 @@ fn eval_sht(a: &ShtArgs) -> psh::Result<serde_json::Value> {
 
 fn eval_spin_sht(a: &SpinShtArgs) -> psh::Result<serde_json::Value> {
     check_grid_size(a.lmax)?;
-    let t = psh::swsh::transform::SpinTransform::new(a.spin, a.lmax)?;
+    let t = psh::swsh::SpinTransform::new(a.spin, a.lmax)?;
     let grid = t.grid();
     let n = psh::sh::num_coeffs(a.lmax) as u64;
     let (nt, np) = (grid.rings.len() as u64, grid.n_phi as u64);

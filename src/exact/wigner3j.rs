@@ -1,5 +1,5 @@
 //! Exact Wigner 3j symbols and Gaunt coefficients (feature `exact`): oracles for
-//! [`crate::sh::gaunt`].
+//! [`crate::sh::wigner3j`] and [`crate::sh::gaunt`].
 //!
 //! Every 3j symbol with integer arguments is `± sqrt(r)` with `r` rational (Racah's formula,
 //! DLMF 34.2.4), computed here in exact integer/rational arithmetic ([`rug`]). Gaunt
@@ -16,7 +16,7 @@
 //! the sum computed separately), without the symmetry-based reduction used in `f64`.
 
 use crate::error::{Error, Result};
-use crate::sh::gaunt::MAX_GAUNT_DEGREE;
+use crate::sh::MAX_GAUNT_DEGREE;
 use rug::float::Constant;
 use rug::{Float, Integer, Rational};
 use std::cmp::Ordering;
@@ -236,17 +236,17 @@ fn racah(l1: i64, l2: i64, l3: i64, m1: i64, m2: i64, m3: i64) -> SignedSqrt {
 }
 
 /// Exact Wigner 3j symbol `(l1 l2 l3; m1 m2 m3)` by Racah's formula (DLMF 34.2.4), as
-/// `± sqrt(r)`. Exactly zero when the selection rules (DLMF §34.2) forbid it, and also at
+/// `± sqrt(r)`; arguments in `(l, m)` pairs as in [`crate::sh::wigner3j`]. Exactly zero when the selection rules (DLMF §34.2) forbid it, and also at
 /// nontrivial zeros such as `(3 3 2; 2 -2 0)`.
 ///
 /// Errors: [`Error::DegreeOutOfRange`] (degree above [`MAX_GAUNT_DEGREE`]),
 /// [`Error::OrderOutOfRange`] (`|m_i| > l_i`). Cost grows like `(l1+l2+l3)^2` digits of work.
 pub fn wigner_3j_exact(
     l1: usize,
-    l2: usize,
-    l3: usize,
     m1: i64,
+    l2: usize,
     m2: i64,
+    l3: usize,
     m3: i64,
 ) -> Result<SignedSqrt> {
     check("l1", "m1", l1, m1)?;
@@ -430,7 +430,7 @@ pub fn real_gaunt_exact(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sh::gaunt;
+    use crate::sh::wigner_3j_row;
 
     fn q(n: i64, d: i64) -> Rational {
         Rational::from((n, d))
@@ -448,7 +448,7 @@ mod tests {
             ((1, 1, 2, 1, -1, 0), 1, q(1, 30)),
         ];
         for ((l1, l2, l3, m1, m2, m3), sign, sq) in cases {
-            let w = wigner_3j_exact(l1, l2, l3, m1, m2, m3).unwrap();
+            let w = wigner_3j_exact(l1, m1, l2, m2, l3, m3).unwrap();
             assert_eq!(
                 w,
                 SignedSqrt::new(sign, sq).unwrap(),
@@ -456,9 +456,9 @@ mod tests {
             );
         }
         // A nontrivial zero, and selection-rule zeros.
-        assert!(wigner_3j_exact(3, 3, 2, 2, -2, 0).unwrap().is_zero());
-        assert!(wigner_3j_exact(1, 1, 1, 0, 0, 0).unwrap().is_zero());
-        assert!(wigner_3j_exact(1, 1, 3, 0, 0, 0).unwrap().is_zero());
+        assert!(wigner_3j_exact(3, 2, 3, -2, 2, 0).unwrap().is_zero());
+        assert!(wigner_3j_exact(1, 0, 1, 0, 1, 0).unwrap().is_zero());
+        assert!(wigner_3j_exact(1, 0, 1, 0, 3, 0).unwrap().is_zero());
         assert!(wigner_3j_exact(1, 1, 1, 1, 1, -1).unwrap().is_zero());
         // Real Gaunt of Y^R_11 Y^R_11 Y^R_20 = -(2/5) sqrt(5/(16 pi)) = -sqrt(4/5)/sqrt(4 pi)
         // (hand integration of x^2 (3 z^2 - 1)).
@@ -488,7 +488,7 @@ mod tests {
                 (fact(g - l1) * fact(g - l2) * fact(g - l3)).square(),
             ));
             let sign = if g % 2 == 0 { 1 } else { -1 };
-            let w = wigner_3j_exact(l1 as usize, l2 as usize, l3 as usize, 0, 0, 0).unwrap();
+            let w = wigner_3j_exact(l1 as usize, 0, l2 as usize, 0, l3 as usize, 0).unwrap();
             assert_eq!(w, SignedSqrt::new(sign, r).unwrap());
         }
         // DLMF 34.3.6, exactly.
@@ -507,7 +507,7 @@ mod tests {
             } else {
                 -1
             };
-            let w = wigner_3j_exact(l1 as usize, l2 as usize, lj as usize, m1, m2, -mm).unwrap();
+            let w = wigner_3j_exact(l1 as usize, m1, l2 as usize, m2, lj as usize, -mm).unwrap();
             assert_eq!(w, SignedSqrt::new(sign, r).unwrap());
         }
     }
@@ -532,15 +532,15 @@ mod tests {
                 continue;
             }
             let (u1, u2, u3) = (l1 as usize, l2 as usize, l3 as usize);
-            let w = wigner_3j_exact(u1, u2, u3, m1, m2, m3).unwrap();
+            let w = wigner_3j_exact(u1, m1, u2, m2, u3, m3).unwrap();
             let mut odd = w.clone();
             if (l1 + l2 + l3) % 2 == 1 {
                 odd.sign = -odd.sign;
             }
-            assert_eq!(wigner_3j_exact(u2, u3, u1, m2, m3, m1).unwrap(), w);
-            assert_eq!(wigner_3j_exact(u3, u1, u2, m3, m1, m2).unwrap(), w);
-            assert_eq!(wigner_3j_exact(u2, u1, u3, m2, m1, m3).unwrap(), odd);
-            assert_eq!(wigner_3j_exact(u1, u2, u3, -m1, -m2, -m3).unwrap(), odd);
+            assert_eq!(wigner_3j_exact(u2, m2, u3, m3, u1, m1).unwrap(), w);
+            assert_eq!(wigner_3j_exact(u3, m3, u1, m1, u2, m2).unwrap(), w);
+            assert_eq!(wigner_3j_exact(u2, m2, u1, m1, u3, m3).unwrap(), odd);
+            assert_eq!(wigner_3j_exact(u1, -m1, u2, -m2, u3, -m3).unwrap(), odd);
         }
     }
 
@@ -557,10 +557,10 @@ mod tests {
                     if m2.unsigned_abs() as usize > l2 {
                         continue;
                     }
-                    let a = wigner_3j_exact(l1, l2, l3, m1, m2, m3)
+                    let a = wigner_3j_exact(l1, m1, l2, m2, l3, m3)
                         .unwrap()
                         .to_float(300);
-                    let b = wigner_3j_exact(l1, l2, l3p, m1, m2, m3)
+                    let b = wigner_3j_exact(l1, m1, l2, m2, l3p, m3)
                         .unwrap()
                         .to_float(300);
                     s += a * b * (2 * l3 as u32 + 1);
@@ -594,7 +594,7 @@ mod tests {
     #[test]
     fn bad_input() {
         assert!(matches!(
-            wigner_3j_exact(1, 1, 1, 2, -2, 0),
+            wigner_3j_exact(1, 2, 1, -2, 1, 0),
             Err(Error::OrderOutOfRange { .. })
         ));
         assert!(matches!(
@@ -606,7 +606,7 @@ mod tests {
         assert!(SignedSqrt::new(2, q(1, 2)).is_err());
     }
 
-    /// The f64 rows of `crate::sh::gaunt` against Racah's formula up to degree 8192: samples
+    /// The f64 rows of `crate::sh::wigner3j` against Racah's formula up to degree 8192: samples
     /// of each row (both ends, the middle, the largest value and 150 points across), including
     /// the edge cases m = ±l whose rows peak at l3_min. Every value in the normal f64 range
     /// must be within one ulp (relative error <= 2^-52): the recursion runs in double-double,
@@ -631,7 +631,7 @@ mod tests {
         let one_ulp = f64::EPSILON;
         let mut max_rel: f64 = 0.0;
         for &(l1, l2, m1, m2) in cases {
-            let row = gaunt::wigner_3j_row(l1, l2, m1, m2).unwrap();
+            let row = wigner_3j_row(l1, m1, l2, m2).unwrap();
             let n = row.values().len();
             let argmax = (0..n)
                 .max_by(|&a, &b| row.values()[a].abs().total_cmp(&row.values()[b].abs()))
@@ -648,7 +648,7 @@ mod tests {
             let mut case_rel: f64 = 0.0;
             for k in ks {
                 let l3 = row.l3_min() + k;
-                let exact = wigner_3j_exact(l1, l2, l3, m1, m2, -m1 - m2)
+                let exact = wigner_3j_exact(l1, m1, l2, m2, l3, -m1 - m2)
                     .unwrap()
                     .to_float(200);
                 let e = exact.to_f64();
@@ -694,7 +694,7 @@ mod tests {
                     .collect();
                 let printed = e["value"].as_str().unwrap();
                 let exact = match name {
-                    "wigner3j" => wigner_3j_exact(l[0], l[1], l[2], m[0], m[1], m[2])
+                    "wigner3j" => wigner_3j_exact(l[0], m[0], l[1], m[1], l[2], m[2])
                         .unwrap()
                         .to_float(200),
                     "gaunt" => gaunt_exact(l[0], m[0], l[1], m[1], l[2], m[2])

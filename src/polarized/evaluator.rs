@@ -1,6 +1,6 @@
 //! Point evaluation of PSH coefficient vectors PSH (30) with the basis tables built once:
 //! the real SH PSH (12) by the Legendre recursion and the spin-2 SH PSH (26)-(27) by the
-//! Wigner-d recursion of [`crate::swsh::transform`], both `O(lmax^2)` per direction, for
+//! Wigner-d recursion of [`crate::swsh::SpinEvaluator`], both `O(lmax^2)` per direction, for
 //! hot loops that evaluate many vectors of one band limit (a renderer's vertices).
 
 use super::PshVector;
@@ -10,7 +10,7 @@ use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
 use crate::sh::harmonics::ShEvaluator;
 use crate::sh::num_coeffs;
 use crate::stokes::{StokesComponents, StokesVector};
-use crate::swsh::transform::SpinEvaluator;
+use crate::swsh::SpinEvaluator;
 use num_complex::Complex64;
 
 /// Evaluates PSH vectors of band limit up to `lmax` at single directions (reuse one per

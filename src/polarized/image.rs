@@ -12,7 +12,7 @@ use crate::geometry::image_grid::PixelGrid;
 use crate::sh::lm_index;
 use crate::sh::pixel::{block_sum, project_real_channels};
 use crate::stokes::StokesComponents;
-use crate::swsh::transform::{HalfAngle, SpinEvaluator};
+use crate::swsh::{HalfAngle, SpinEvaluator};
 use num_complex::Complex64;
 
 /// Texels per lane block of the spin-2 recursion.

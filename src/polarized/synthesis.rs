@@ -16,7 +16,7 @@ use crate::sh::harmonics::CisWalk;
 use crate::sh::legendre::{Legendre, Polar};
 use crate::sh::lm_index;
 use crate::stokes::{StokesComponents, StokesVector};
-use crate::swsh::transform::SpinEvaluator;
+use crate::swsh::SpinEvaluator;
 use num_complex::Complex64;
 use std::f64::consts::SQRT_2;
 

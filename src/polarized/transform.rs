@@ -4,7 +4,7 @@ use super::{Codomain, PshVector};
 use crate::error::{check_len, finite_all, Error, Result};
 use crate::sh::num_coeffs;
 use crate::sh::transform::ShTransform;
-use crate::swsh::transform::SpinTransform;
+use crate::swsh::SpinTransform;
 use num_complex::Complex64;
 
 /// Projection PSH (32) and reconstruction PSH (30) on the exact grid of band limit `lmax`.

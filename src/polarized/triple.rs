@@ -14,8 +14,8 @@
 
 use super::{in_index_set, Codomain, PshMatrix, PshVector};
 use crate::error::{Error, Result};
-use crate::sh::gaunt::{wigner_3j_row, wigner_3j_row_into, GauntBasis, GauntTable};
 use crate::sh::{check_lmax, lm_index, num_coeffs};
+use crate::sh::{wigner_3j_row, wigner_3j_row_into, GauntBasis, GauntTable};
 use num_complex::Complex64;
 use std::f64::consts::{FRAC_1_SQRT_2, PI};
 
@@ -42,8 +42,8 @@ pub fn spin2_gaunt(lo: usize, mo: i64, l: usize, m: i64, li: usize, mi: i64) -> 
     if lo < 2 || li < 2 || mi != mo - m {
         return Ok(0.0);
     }
-    let a = wigner_3j_row(lo, l, -mo, m)?.get(li);
-    let b = wigner_3j_row(lo, l, 2, 0)?.get(li);
+    let a = wigner_3j_row(lo, -mo, l, m)?.get(li);
+    let b = wigner_3j_row(lo, 2, l, 0)?.get(li);
     Ok(parity(mo) * prefactor(lo, l, li) * a * b)
 }
 
@@ -93,7 +93,7 @@ pub struct TripleTable {
 impl TripleTable {
     /// The couplings of PSH (55) (real Gaunt table) and PSH (56) (closed form (T5) of
     /// `proofs/triple-products.md`). Errors: `lv` or `lmax` beyond the Gaunt table limit
-    /// ([`crate::sh::gaunt::MAX_TABLE_DEGREE`]).
+    /// ([`crate::sh::MAX_TABLE_DEGREE`]).
     pub fn new(lv: usize, lmax: usize) -> Result<Self> {
         Self::for_codomain(lv, lmax, Codomain::Full)
     }
@@ -111,14 +111,14 @@ impl TripleTable {
         for lo in 2..=last {
             for l in 0..=lv {
                 // (lo l li; 2 0 -2) for li = smin..=lo+l.
-                let smin = wigner_3j_row_into(lo, l, 2, 0, &mut row_s)?;
+                let smin = wigner_3j_row_into(lo, 2, l, 0, &mut row_s)?;
                 for mo in -(lo as i64)..=lo as i64 {
                     let jo = lm_index(lo, mo) as u32;
                     let sign = parity(mo);
                     for m in -(l as i64)..=l as i64 {
                         let mi = mo - m;
                         // (lo l li; -mo m mi) for li = mmin..=lo+l.
-                        let mmin = wigner_3j_row_into(lo, l, -mo, m, &mut row_m)?;
+                        let mmin = wigner_3j_row_into(lo, -mo, l, m, &mut row_m)?;
                         let first = mmin.max(smin).max(2).max(mi.unsigned_abs() as usize);
                         for li in first..=lmax.min(lo + l) {
                             let value =

@@ -1,5 +1,5 @@
-//! Wigner 3j symbols and Gaunt coefficients: integrals of products of three
-//! spherical harmonics, complex (PSH (1)) and real (PSH (12)).
+//! Gaunt coefficients: integrals of products of three spherical harmonics, complex
+//! (PSH (1)) and real (PSH (12)), from the Wigner 3j symbols of [`crate::sh::wigner3j`].
 //!
 //! # Conventions
 //! * Complex SH: `Y_lm = A_lm P_l^m(cos theta) e^{i m phi}` with the Condon-Shortley
@@ -14,596 +14,26 @@
 //!
 //!   The real SH therefore carry the Condon-Shortley sign, e.g.
 //!   `Y^R_{1,1} = -sqrt(3/(4 pi)) sin(theta) cos(phi)`.
-//! * Wigner 3j symbols `(l1 l2 l3; m1 m2 m3)` as in DLMF §34.2 (Racah's formula, DLMF 34.2.4),
-//!   with `(l1 l2 l1+l2; m1 m2 -m1-m2)` of sign `(-1)^{l1-l2+m1+m2}` (DLMF 34.3.6).
 //!
 //! # What is computed
-//! * [`wigner_3j_row`]: all `(l1 l2 l3; m1 m2 -m1-m2)` for
-//!   `l3 = max(|l1-l2|, |m1+m2|) ..= l1+l2` at once, by the three-term recursion in `l3`
-//!   of Schulten & Gordon (1975), run from both ends towards the middle and matched there
-//!   (see `proofs/wigner3j-recursion.md`); [`wigner_3j`] for a single symbol.
 //! * [`gaunt`]: `G(l1 m1, l2 m2, l3 m3) = ∫ Y_{l1 m1} Y_{l2 m2} Y_{l3 m3} dω`;
 //!   [`gaunt_product`]: `∫ conj(Y_{lm}) Y_{l1 m1} Y_{l2 m2} dω`, the coupling of a product of
 //!   two complex SH expansions (PSH (55));
 //!   [`real_gaunt`]: `∫ Y^R_{l1 m1} Y^R_{l2 m2} Y^R_{l3 m3} dω`.
-//! * [`GauntTable`]: every nonzero coupling needed to multiply two band-limited expansions.
+//! * Tables of every coupling of two expansions: [`crate::sh::gaunt_table`].
 //!
-//! # Accuracy and limits
-//! Degrees up to [`MAX_GAUNT_DEGREE`] are accepted. The recursion runs in double-double
-//! arithmetic (about 106 bits; Dekker 1971, Hida, Li & Bailey 2001) on values rescaled by
-//! exact powers of two, so nothing overflows and the only sizeable error of a 3j symbol is
-//! its final rounding to f64: against exact values (Racah's formula in rational arithmetic,
-//! `crate::exact::wigner3j`) the symbols are within one ulp, in practice correctly rounded,
-//! up to degree 8192 (tests `f64_rows_are_within_one_ulp_at_large_degrees` and
-//! `tests/gaunt_oracle.rs`). Gaunt coefficients add a few roundings (relative error below
-//! `1e-15`). Symbols whose magnitude is below about `1e-300` come out as subnormal numbers or
-//! zero; a nontrivial zero (one no selection rule predicts, e.g. `(3 3 2; -2 2 0)`) comes out
-//! near `1e-32` times the row's scale rather than exactly zero. Selection rules (sum of the
-//! `m`, triangle inequality, parity of `l1+l2+l3` when all `m` vanish) give exact zeros
-//! without computation. Cost: about 60-120 ns per symbol of a row (double-double with and
-//! without hardware FMA).
+//! Degrees up to [`MAX_GAUNT_DEGREE`](super::MAX_GAUNT_DEGREE) are accepted; the coefficients add a few roundings to
+//! the 3j symbols' (relative error below `1e-15`).
 
-use crate::error::{Error, Result};
-use crate::sh::{lm_index, num_coeffs, MAX_DEGREE};
+use super::wigner3j::{check_degree_order, triangle, wigner_3j_checked};
+use crate::error::Result;
 use num_complex::Complex64;
-use std::ops::{Add, Mul};
-
-/// Largest degree accepted by the 3j and Gaunt routines of this module, for each of
-/// `l1, l2, l3`: twice [`MAX_DEGREE`], so that the product of two expansions of degree
-/// `MAX_DEGREE` can be coupled. (A row of [`wigner_3j_row`] reaches `l3 = l1 + l2`.)
-pub const MAX_GAUNT_DEGREE: usize = 2 * MAX_DEGREE;
-
-/// Largest `lmax_a`, `lmax_b` accepted by [`GauntTable::new`]. The table holds
-/// `O(lmax_a^2 lmax_b^2 min(lmax_a, lmax_b))` entries of 24 bytes; for the real basis with
-/// `lmax_a = lmax_b = L`, `lmax_out = 2L`: 4.4·10^4 entries for `L = 8`, 1.1·10^6 for
-/// `L = 16`, roughly 3.5·10^7 (0.8 GB) for `L = 32`.
-pub const MAX_TABLE_DEGREE: usize = 32;
 
 /// `1/sqrt(4 pi)`, the constant of DLMF §34.3(vii) (Gaunt's integral).
 const INV_SQRT_4PI: f64 = 0.282_094_791_773_878_14;
 
-/// Rows are rescaled by `2^-RESCALE_EXP` whenever an element exceeds `2^RESCALE_EXP`.
-const RESCALE_EXP: i32 = 300;
-
-// ---------------------------------------------------------------------------------------
-// Input checks
-// ---------------------------------------------------------------------------------------
-
-fn degree_i64(l: usize) -> i64 {
-    i64::try_from(l).unwrap_or(i64::MAX)
-}
-
-/// Checks `l <= MAX_GAUNT_DEGREE` and `|m| <= l`, naming the offending argument.
-fn check_degree_order(lname: &'static str, mname: &'static str, l: usize, m: i64) -> Result<()> {
-    if l > MAX_GAUNT_DEGREE {
-        return Err(Error::DegreeOutOfRange {
-            name: lname,
-            value: degree_i64(l),
-            reason: format!(
-                "the largest degree supported by the 3j/Gaunt routines is {MAX_GAUNT_DEGREE}"
-            ),
-        });
-    }
-    if m.unsigned_abs() > l as u64 {
-        return Err(Error::OrderOutOfRange {
-            name: mname,
-            l: l as i64,
-            m,
-        });
-    }
-    Ok(())
-}
-
-/// Triangle condition `|l1-l2| <= l3 <= l1+l2` (DLMF §34.2).
-fn triangle(l1: usize, l2: usize, l3: usize) -> bool {
-    l1.abs_diff(l2) <= l3 && l3 <= l1 + l2
-}
-
-// ---------------------------------------------------------------------------------------
-// 3j recursion
-// ---------------------------------------------------------------------------------------
-
-/// Double-double number `hi + lo` (`|lo| <= ulp(hi)/2`), about 106 significant bits, built from
-/// the error-free transformations of Dekker (1971) and Knuth (TAOCP vol. 2, 4.2.2), following
-/// the double-double algorithms published by Hida, Li & Bailey (2001). Used so that the 3j
-/// recursion keeps its rounding errors far below f64 resolution even over rows of thousands
-/// of steps (see `proofs/wigner3j-recursion.md`).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-struct Dd {
-    hi: f64,
-    lo: f64,
-}
-
-/// `a + b = s + e` exactly.
-#[inline]
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    let bb = s - a;
-    (s, (a - (s - bb)) + (b - bb))
-}
-
-/// `a + b = s + e` exactly, for `|a| >= |b|`.
-#[inline]
-fn quick_two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    (s, b - (s - a))
-}
-
-/// Veltkamp splitting `a = hi + lo` into two 26-bit halves.
-#[cfg(not(target_feature = "fma"))]
-#[inline]
-fn split(a: f64) -> (f64, f64) {
-    let t = 134_217_729.0 * a; // 2^27 + 1
-    let hi = t - (t - a);
-    (hi, a - hi)
-}
-
-/// `a b = p + e` exactly, by a fused multiply-add where the target has one.
-#[cfg(target_feature = "fma")]
-#[inline]
-fn two_prod(a: f64, b: f64) -> (f64, f64) {
-    let p = a * b;
-    (p, a.mul_add(b, -p))
-}
-
-/// `a b = p + e` exactly (Dekker).
-#[cfg(not(target_feature = "fma"))]
-#[inline]
-fn two_prod(a: f64, b: f64) -> (f64, f64) {
-    let p = a * b;
-    let (ah, al) = split(a);
-    let (bh, bl) = split(b);
-    (p, ((ah * bh - p) + ah * bl + al * bh) + al * bl)
-}
-
-impl Dd {
-    const ZERO: Dd = Dd { hi: 0.0, lo: 0.0 };
-
-    #[inline]
-    fn from_f64(x: f64) -> Dd {
-        Dd { hi: x, lo: 0.0 }
-    }
-
-    #[inline]
-    fn neg(self) -> Dd {
-        Dd {
-            hi: -self.hi,
-            lo: -self.lo,
-        }
-    }
-
-    #[inline]
-    fn add(self, b: Dd) -> Dd {
-        let (s, e) = two_sum(self.hi, b.hi);
-        let (t, f) = two_sum(self.lo, b.lo);
-        let (s, e) = quick_two_sum(s, e + t);
-        let (hi, lo) = quick_two_sum(s, e + f);
-        Dd { hi, lo }
-    }
-
-    #[inline]
-    fn sub(self, b: Dd) -> Dd {
-        self.add(b.neg())
-    }
-
-    #[inline]
-    fn mul(self, b: Dd) -> Dd {
-        let (p, e) = two_prod(self.hi, b.hi);
-        let (hi, lo) = quick_two_sum(p, e + (self.hi * b.lo + self.lo * b.hi));
-        Dd { hi, lo }
-    }
-
-    #[inline]
-    fn mul_f64(self, b: f64) -> Dd {
-        let (p, e) = two_prod(self.hi, b);
-        let (hi, lo) = quick_two_sum(p, e + self.lo * b);
-        Dd { hi, lo }
-    }
-
-    /// Multiplication by a power of two (exact barring underflow).
-    #[inline]
-    fn scale(self, p2: f64) -> Dd {
-        Dd {
-            hi: self.hi * p2,
-            lo: self.lo * p2,
-        }
-    }
-
-    /// Division (two quotient digits, relative error about `2^-104`).
-    #[inline]
-    fn div(self, b: Dd) -> Dd {
-        let q1 = self.hi / b.hi;
-        let r = self.sub(b.mul_f64(q1));
-        let q2 = r.hi / b.hi;
-        let (hi, lo) = quick_two_sum(q1, q2);
-        Dd { hi, lo }
-    }
-
-    /// Square root (one Newton correction of the f64 root).
-    #[inline]
-    fn sqrt(self) -> Dd {
-        if self.hi <= 0.0 {
-            return Dd::ZERO;
-        }
-        let x = self.hi.sqrt();
-        let (p, e) = two_prod(x, x);
-        let r = self.sub(Dd { hi: p, lo: e });
-        let (hi, lo) = quick_two_sum(x, r.hi / (2.0 * x));
-        Dd { hi, lo }
-    }
-
-    #[inline]
-    fn abs(self) -> f64 {
-        self.hi.abs()
-    }
-}
-
-/// Coefficients of the three-term recursion in `j = l3` for fixed `(l1, l2, m1, m2)`,
-/// `m3 = -m1-m2` (Schulten & Gordon (1975), Sec. II; restated in Luscombe & Luban (1998)):
-///
-/// `j A(j+1) f(j+1) + B(j) f(j) + (j+1) A(j) f(j-1) = 0`, with
-/// `A(j) = sqrt[(j^2 - (l1-l2)^2) ((l1+l2+1)^2 - j^2) (j^2 - m3^2)]`,
-/// `B(j) = -(2j+1) [m3 (l1(l1+1) - l2(l2+1)) - j(j+1)(m2-m1)]`.
-///
-/// `A(j)^2` is formed exactly as a double-double from three integer factors below `2^32`
-/// (exact in `f64`), `B(j)` from two integer factors below `2^53`; no rounding happens before the
-/// square root of `A(j)^2`.
-struct Recursion {
-    d: i64,
-    s: i64,
-    m3: i64,
-    c_b: i64,
-    dm: i64,
-}
-
-impl Recursion {
-    fn new(l1: i64, l2: i64, m1: i64, m2: i64) -> Self {
-        let m3 = -(m1 + m2);
-        Recursion {
-            d: l1 - l2,
-            s: l1 + l2 + 1,
-            m3,
-            c_b: l1 * (l1 + 1) - l2 * (l2 + 1),
-            dm: m2 - m1,
-        }
-    }
-    /// `A(j)`, for `j >= max(|l1 - l2|, |m3|)` (where every factor is non-negative).
-    #[inline]
-    fn a(&self, j: i64) -> Dd {
-        let f1 = ((j - self.d) * (j + self.d)) as f64;
-        let f2 = ((self.s - j) * (self.s + j)) as f64;
-        let f3 = ((j - self.m3) * (j + self.m3)) as f64;
-        let (p, e) = two_prod(f1, f2); // exact: f1 f2 < 2^64
-        let (hi, lo) = two_prod(p, f3);
-        let (hi, lo) = quick_two_sum(hi, lo + e * f3); // e f3 exact: e < 2^12
-        Dd { hi, lo }.sqrt()
-    }
-    #[inline]
-    fn b(&self, j: i64) -> Dd {
-        let inner = (self.m3 * self.c_b - j * (j + 1) * self.dm) as f64; // |.| < 2^53
-        let (hi, lo) = two_prod(-((2 * j + 1) as f64), inner);
-        Dd { hi, lo }
-    }
-}
-
-/// Multiplies `values` by `2^-RESCALE_EXP` (exact).
-fn rescale(values: &mut [Dd]) {
-    let f = 2f64.powi(-RESCALE_EXP);
-    for v in values {
-        *v = v.scale(f);
-    }
-}
-
-/// Least-squares factor `c` minimizing `sum_k |c x_k - y_k|^2` over a short window, with both
-/// windows pre-scaled to unit maximum (for range safety): returns `(c_x, c_y)` such that
-/// `c_x x ≈ c_y y` with `c_y = 1 / max|y|`.
-fn match_factors(x: &[Dd], y: &[Dd]) -> (Dd, Dd) {
-    let sx = x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    let sy = y.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    // Exact power-of-two pre-scaling.
-    let px = 2f64.powi(-(sx.log2().floor() as i32));
-    let py = 2f64.powi(-(sy.log2().floor() as i32));
-    let (mut sxx, mut sxy) = (Dd::ZERO, Dd::ZERO);
-    for (a, b) in x.iter().zip(y) {
-        let (a, b) = (a.scale(px), b.scale(py));
-        sxx = sxx.add(a.mul(a));
-        sxy = sxy.add(a.mul(b));
-    }
-    (sxy.div(sxx).scale(px), Dd::from_f64(py))
-}
-
-thread_local! {
-    /// Scratch space of the row recursion (two solutions of the row's length).
-    static SCRATCH: std::cell::RefCell<Vec<Dd>> = const { std::cell::RefCell::new(Vec::new()) };
-}
-
-/// The row `(l1 l2 l3; m1 m2 -m1-m2)`, `l3 = l3_min ..= l1+l2`, written into `out`; returns
-/// `l3_min`. Inputs must already satisfy `|m1| <= l1`, `|m2| <= l2`, degrees in range.
-fn row_unchecked(l1: usize, l2: usize, m1: i64, m2: i64, out: &mut Vec<f64>) -> usize {
-    SCRATCH.with(|s| {
-        let mut s = s.borrow_mut();
-        row_dd(l1, l2, m1, m2, &mut s, out)
-    })
-}
-
-fn row_dd(l1: usize, l2: usize, m1: i64, m2: i64, buf: &mut Vec<Dd>, out: &mut Vec<f64>) -> usize {
-    let (j1, j2) = (l1 as i64, l2 as i64);
-    let m3 = -(m1 + m2);
-    let jmin = (j1 - j2).abs().max(m3.abs());
-    let jmax = j1 + j2;
-    let n = (jmax - jmin + 1) as usize;
-    let big = 2f64.powi(RESCALE_EXP);
-    let rec = Recursion::new(j1, j2, m1, m2);
-
-    // Scratch layout: f | g | B | C1 | C2, each of length n, indexed by k = j - jmin, with the
-    // recursion written as C2[k] f(j+1) + B[k] f(j) + C1[k] f(j-1) = 0,
-    // C1[k] = (j+1) A(j), C2[k] = j A(j+1); each A(j) is computed once.
-    buf.clear();
-    buf.resize(5 * n, Dd::ZERO);
-    let (f, rest) = buf.split_at_mut(n);
-    let (g, rest) = rest.split_at_mut(n);
-    let (bj, rest) = rest.split_at_mut(n);
-    let (c1, c2) = rest.split_at_mut(n);
-    let mut a_j = rec.a(jmin);
-    for k in 0..n {
-        let j = jmin + k as i64;
-        let a_next = rec.a(j + 1);
-        bj[k] = rec.b(j);
-        c1[k] = a_j.mul_f64((j + 1) as f64);
-        c2[k] = a_next.mul_f64(j as f64);
-        a_j = a_next;
-    }
-
-    // Sign of the (unnormalized) value at l3 = jmax, tracked separately since that value
-    // may underflow relative to the largest one.
-    let top_negative;
-    // The row is assembled in f.
-    if n == 1 {
-        f[0] = Dd::from_f64(1.0);
-        top_negative = false;
-    } else if m1 == m2 && (m1 == 0 || j1 == j2) {
-        // B(j) vanishes identically: every other symbol is zero (for m1 = m2 = 0 by the parity
-        // rule, for l1 = l2, m1 = m2 by the odd column permutation, DLMF 34.3.9), and the
-        // recursion reduces to the two-step first-order recursion
-        // f(j+1) = -(j+1) A(j) / (j A(j+1)) f(j-1), stable in either direction.
-        f[0] = Dd::from_f64(1.0);
-        let mut k = 2;
-        while k < n {
-            f[k] = c1[k - 1].div(c2[k - 1]).mul(f[k - 2]).neg();
-            if f[k].abs() > big {
-                rescale(&mut f[..=k]);
-            }
-            k += 2;
-        }
-        top_negative = f[n - 1].hi < 0.0;
-    } else {
-        // Two solutions of the recursion: `f` started at l3 = jmin (forward), `g` started at
-        // l3 = jmax (backward).
-        let kmax = n - 1;
-        // f[k+1] from f[k], f[k-1].
-        let forward = |k: usize, f: &mut [Dd]| {
-            let num = bj[k].mul(f[k]).add(c1[k].mul(f[k - 1]));
-            f[k + 1] = num.div(c2[k]).neg();
-            if f[k + 1].abs() > big {
-                rescale(&mut f[..=k + 1]);
-            }
-        };
-        // g[k-1] from g[k], g[k+1].
-        let backward = |k: usize, g: &mut [Dd]| {
-            let num = bj[k].mul(g[k]).add(c2[k].mul(g[k + 1]));
-            g[k - 1] = num.div(c1[k]).neg();
-            if g[k - 1].abs() > big {
-                rescale(&mut g[k - 1..]);
-            }
-        };
-
-        // Which direction is stable where (see proofs/wigner3j-recursion.md): besides the
-        // wanted solution W, the recursion has a second solution O that is singular at the
-        // end the recursion starts from (A(jmin) = 0, A(jmax + 1) = 0), decaying away from it
-        // like 1/distance. Recursing away from an end is stable as long as |W| does not decay
-        // faster than O: through a non-classical region, where |W| grows, and into the
-        // classical region, where both oscillate. Each direction is run while
-        // |W(k)| / |W(k-1)| >= (d-1)/d at distance d from its start.
-        //
-        // Forward from l3 = jmin.
-        f[0] = Dd::from_f64(1.0);
-        f[1] = if jmin == 0 {
-            // jmin = 0 means l1 = l2 and m3 = 0: A(0) = 0 and the recursion at j = 0 is empty.
-            // Start from the ratio (l l 1; m -m 0) / (l l 0; m -m 0) = m / sqrt(l(l+1))
-            // (DLMF 34.3.1, 34.3.2).
-            Dd::from_f64(m1 as f64).div(Dd::from_f64((j1 * (j1 + 1)) as f64).sqrt())
-        } else {
-            // A(jmin) = 0 removes f(jmin - 1).
-            bj[0].div(c2[0]).neg()
-        };
-        let mut kf = 1; // highest computed index of f
-        while kf < kmax - 1 && kf as f64 * f[kf].abs() >= (kf - 1) as f64 * f[kf - 1].abs() {
-            forward(kf, f);
-            kf += 1;
-        }
-        // Backward from l3 = jmax, where A(jmax + 1) = 0, down to the forward's range at most.
-        g[kmax] = Dd::from_f64(1.0);
-        g[kmax - 1] = bj[kmax].div(c1[kmax]).neg();
-        let mut kg = kmax - 1; // lowest computed index of g
-        while kg > kf {
-            let d = (kmax - kg) as f64; // distance of g[kg] from the start
-            if d * g[kg].abs() < (d - 1.0) * g[kg + 1].abs() {
-                break;
-            }
-            backward(kg, g);
-            kg -= 1;
-        }
-        // Across the classical region in between, where both directions are neutrally
-        // stable, each solution is carried to the middle.
-        let kmid = ((kf - 1) + kg.max(kf)) / 2;
-        let lo = kmid.saturating_sub(1);
-        let hi = (kmid + 1).min(kmax);
-        while kg > lo {
-            backward(kg, g);
-            kg -= 1;
-        }
-        while kf < hi {
-            forward(kf, f);
-            kf += 1;
-        }
-        // Match the two solutions on the window lo..=hi by least squares (robust to an
-        // accidental zero at one point) and splice them at kmid.
-        let (cf, cg) = match_factors(&f[lo..=hi], &g[lo..=hi]);
-        for v in &mut f[..kmid] {
-            *v = v.mul(cf);
-        }
-        for (v, w) in f[kmid..].iter_mut().zip(&g[kmid..]) {
-            *v = w.mul(cg);
-        }
-        // The backward start value 1 was only scaled by positive factors since.
-        top_negative = false;
-    }
-
-    // Normalize: sum_{l3} (2 l3 + 1) (3j)^2 = 1 (DLMF §34.3(iv), orthogonality in l3, m3);
-    // sign: (l1 l2 l1+l2; m1 m2 m3) has sign (-1)^{l1-l2-m3} (DLMF 34.3.6).
-    let row = f;
-    let peak = row.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    let p2 = 2f64.powi(-(peak.log2().floor() as i32));
-    let mut acc = Dd::ZERO;
-    for (k, v) in row.iter_mut().enumerate() {
-        *v = v.scale(p2);
-        acc = acc.add(v.mul(*v).mul_f64((2 * (jmin + k as i64) + 1) as f64));
-    }
-    let want_negative = (j1 - j2 - m3).rem_euclid(2) == 1;
-    let mut c = Dd::from_f64(1.0).div(acc.sqrt());
-    if want_negative != top_negative {
-        c = c.neg();
-    }
-    out.clear();
-    out.extend(row.iter().map(|v| {
-        let x = v.mul(c);
-        x.hi + x.lo
-    }));
-    jmin as usize
-}
-
-/// Wigner 3j symbols `(l1 l2 l3; m1 m2 m3)`, `m3 = -m1-m2`, for every `l3` in
-/// `l3_min ..= l3_max` with `l3_min = max(|l1-l2|, |m1+m2|)`, `l3_max = l1+l2`.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Wigner3jRow {
-    l3_min: usize,
-    values: Vec<f64>,
-}
-
-impl Wigner3jRow {
-    /// Smallest `l3` of the row: `max(|l1-l2|, |m1+m2|)`.
-    pub fn l3_min(&self) -> usize {
-        self.l3_min
-    }
-    /// Largest `l3` of the row: `l1 + l2`.
-    pub fn l3_max(&self) -> usize {
-        self.l3_min + self.values.len() - 1
-    }
-    /// The symbols, `values()[i]` for `l3 = l3_min() + i`.
-    pub fn values(&self) -> &[f64] {
-        &self.values
-    }
-    /// The symbol for `l3`; zero outside `l3_min ..= l3_max` (selection rules).
-    pub fn get(&self, l3: usize) -> f64 {
-        if l3 < self.l3_min {
-            return 0.0;
-        }
-        self.values.get(l3 - self.l3_min).copied().unwrap_or(0.0)
-    }
-    /// `(l3, symbol)` pairs in increasing `l3`.
-    pub fn iter(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
-        self.values
-            .iter()
-            .enumerate()
-            .map(move |(i, &v)| (self.l3_min + i, v))
-    }
-}
-
-/// All Wigner 3j symbols `(l1 l2 l3; m1 m2 -m1-m2)` over `l3`, by the three-term recursion of
-/// Schulten & Gordon (1975) in `l3` (coefficients in the private `Recursion`), run in
-/// double-double arithmetic from both ends of the row towards the middle (each direction
-/// where it is stable: through its non-classical region, then to the middle of the classical
-/// one), matched by least squares on a three-point window, normalized by
-/// `sum_{l3} (2 l3 + 1) (3j)^2 = 1` (DLMF §34.3(iv)) and signed by
-/// `sgn (l1 l2 l1+l2; m1 m2 m3) = (-1)^{l1-l2-m3}` (DLMF 34.3.6); rounded to f64 at the end
-/// (within one ulp of the exact values, see the module documentation).
-/// See `proofs/wigner3j-recursion.md`.
-///
-/// Cost `O(min(l1, l2))` (the row length `l1 + l2 - l3_min + 1 <= 2 min(l1, l2) + 1`). Errors: [`Error::DegreeOutOfRange`] if `l1` or `l2` exceeds
-/// [`MAX_GAUNT_DEGREE`], [`Error::OrderOutOfRange`] if `|m1| > l1` or `|m2| > l2`.
-pub fn wigner_3j_row(l1: usize, l2: usize, m1: i64, m2: i64) -> Result<Wigner3jRow> {
-    let mut values = Vec::new();
-    let l3_min = wigner_3j_row_into(l1, l2, m1, m2, &mut values)?;
-    Ok(Wigner3jRow { l3_min, values })
-}
-
-/// As [`wigner_3j_row`], writing the symbols into `out` (cleared first, capacity reused)
-/// and returning `l3_min`; `out[i]` is the symbol for `l3 = l3_min + i`.
-pub fn wigner_3j_row_into(
-    l1: usize,
-    l2: usize,
-    m1: i64,
-    m2: i64,
-    out: &mut Vec<f64>,
-) -> Result<usize> {
-    check_degree_order("l1", "m1", l1, m1)?;
-    check_degree_order("l2", "m2", l2, m2)?;
-    Ok(row_unchecked(l1, l2, m1, m2, out))
-}
-
-/// One Wigner 3j symbol `(l1 l2 l3; m1 m2 m3)` (arguments in the order of the symbol's top and
-/// bottom rows).
-///
-/// Exact zero, without computation, unless `m1+m2+m3 = 0`, the triangle condition
-/// `|l1-l2| <= l3 <= l1+l2` holds, and (when `m1 = m2 = m3 = 0`) `l1+l2+l3` is even
-/// (DLMF §34.2, 34.3.5). Otherwise the columns are permuted cyclically (DLMF 34.3.8, no sign)
-/// so that the largest degree is the recursion variable, and the row of [`wigner_3j_row`] is
-/// evaluated (cost `O(min(l1, l2, l3))`).
-///
-/// Errors: [`Error::DegreeOutOfRange`] for a degree above [`MAX_GAUNT_DEGREE`],
-/// [`Error::OrderOutOfRange`] for `|m_i| > l_i`.
-pub fn wigner_3j(l1: usize, l2: usize, l3: usize, m1: i64, m2: i64, m3: i64) -> Result<f64> {
-    check_degree_order("l1", "m1", l1, m1)?;
-    check_degree_order("l2", "m2", l2, m2)?;
-    check_degree_order("l3", "m3", l3, m3)?;
-    let mut buf = Vec::new();
-    Ok(wigner_3j_checked(l1, l2, l3, m1, m2, m3, &mut buf))
-}
-
-/// [`wigner_3j`] after the input checks; `buf` is scratch space.
-fn wigner_3j_checked(
-    l1: usize,
-    l2: usize,
-    l3: usize,
-    m1: i64,
-    m2: i64,
-    m3: i64,
-    buf: &mut Vec<f64>,
-) -> f64 {
-    if m1 + m2 + m3 != 0 || !triangle(l1, l2, l3) {
-        return 0.0;
-    }
-    if m1 == 0 && m2 == 0 && (l1 + l2 + l3) % 2 == 1 {
-        return 0.0;
-    }
-    // Cyclic permutation putting the largest degree last (DLMF 34.3.8).
-    let (a, b, c, ma, mb) = if l3 >= l1 && l3 >= l2 {
-        (l1, l2, l3, m1, m2)
-    } else if l1 >= l2 {
-        (l2, l3, l1, m2, m3)
-    } else {
-        (l3, l1, l2, m3, m1)
-    };
-    let cmin = row_unchecked(a, b, ma, mb, buf);
-    buf[c - cmin]
-}
-
-// ---------------------------------------------------------------------------------------
-// Gaunt coefficients
-// ---------------------------------------------------------------------------------------
-
 /// `sqrt((2l1+1)(2l2+1)(2l3+1)/(4 pi))` (DLMF §34.3(vii)).
-fn gaunt_prefactor(l1: usize, l2: usize, l3: usize) -> f64 {
+pub(super) fn gaunt_prefactor(l1: usize, l2: usize, l3: usize) -> f64 {
     (((2 * l1 + 1) * (2 * l2 + 1) * (2 * l3 + 1)) as f64).sqrt() * INV_SQRT_4PI
 }
 
@@ -614,8 +44,8 @@ fn gaunt_prefactor(l1: usize, l2: usize, l3: usize) -> f64 {
 /// included). No conjugation: for the coupling of a product use [`gaunt_product`].
 ///
 /// Exact zero unless `m1+m2+m3 = 0`, the triangle condition holds and `l1+l2+l3` is even.
-/// Errors: [`Error::DegreeOutOfRange`] (degree above [`MAX_GAUNT_DEGREE`]),
-/// [`Error::OrderOutOfRange`] (`|m_i| > l_i`).
+/// Errors: [`crate::Error::DegreeOutOfRange`] (degree above [`MAX_GAUNT_DEGREE`](super::MAX_GAUNT_DEGREE)),
+/// [`crate::Error::OrderOutOfRange`] (`|m_i| > l_i`).
 pub fn gaunt(l1: usize, m1: i64, l2: usize, m2: i64, l3: usize, m3: i64) -> Result<f64> {
     check_degree_order("l1", "m1", l1, m1)?;
     check_degree_order("l2", "m2", l2, m2)?;
@@ -636,11 +66,11 @@ fn gaunt_checked(
     if m1 + m2 + m3 != 0 || !triangle(l1, l2, l3) || (l1 + l2 + l3) % 2 == 1 {
         return 0.0;
     }
-    let w0 = wigner_3j_checked(l1, l2, l3, 0, 0, 0, buf);
+    let w0 = wigner_3j_checked(l1, 0, l2, 0, l3, 0, buf);
     let wm = if m1 == 0 && m2 == 0 {
         w0
     } else {
-        wigner_3j_checked(l1, l2, l3, m1, m2, m3, buf)
+        wigner_3j_checked(l1, m1, l2, m2, l3, m3, buf)
     };
     gaunt_prefactor(l1, l2, l3) * w0 * wm
 }
@@ -675,7 +105,7 @@ pub fn gaunt_product(l: usize, m: i64, l1: usize, m1: i64, l2: usize, m2: i64) -
 /// `phi -> -phi`), and otherwise `±1/sqrt 2` (three nonzero `m_i`) or `±1` (one `m_i` zero,
 /// or all zero). Returns the canonical pattern (first nonzero `mu` positive) and `c`, or
 /// `None` when `R` vanishes by these selection rules.
-fn real_coupling(m: [i64; 3]) -> Option<([i64; 3], f64)> {
+pub(super) fn real_coupling(m: [i64; 3]) -> Option<([i64; 3], f64)> {
     let negatives = m.iter().filter(|&&x| x < 0).count();
     if negatives % 2 == 1 {
         return None;
@@ -749,709 +179,22 @@ pub fn real_gaunt(l1: usize, m1: i64, l2: usize, m2: i64, l3: usize, m3: i64) ->
     Ok(c * gaunt_checked(l1, mu[0], l2, mu[1], l3, mu[2], &mut buf))
 }
 
-// ---------------------------------------------------------------------------------------
-// Tables for products of expansions
-// ---------------------------------------------------------------------------------------
-
-/// Which spherical harmonics a [`GauntTable`] couples.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum GauntBasis {
-    /// Complex SH of PSH (1): entries `∫ conj(Y_out) Y_a Y_b` ([`gaunt_product`]).
-    Complex,
-    /// Real SH of PSH (12): entries `∫ Y^R_out Y^R_a Y^R_b` ([`real_gaunt`]).
-    Real,
-}
-
-/// One nonzero coupling: `(f g)_out += value * f_a * g_b`. Indices are flat SH indices
-/// `l*l + l + m` ([`crate::sh::lm_index`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GauntEntry {
-    /// Flat index of the output harmonic.
-    pub out: u32,
-    /// Flat index of the harmonic of the first factor.
-    pub a: u32,
-    /// Flat index of the harmonic of the second factor.
-    pub b: u32,
-    /// The Gaunt coefficient.
-    pub value: f64,
-}
-
-/// Every nonzero Gaunt coefficient coupling two band-limited SH expansions
-/// (`l_a <= lmax_a`, `l_b <= lmax_b`) into their product truncated at `lmax_out`; the sparse
-/// tensor behind SH products and the spin-0 triple products of PSH (55).
-///
-/// For `f = sum_a f_a Y_a`, `g = sum_b g_b Y_b` the product has coefficients
-/// `(f g)_out = sum_{(out, a, b)} value * f_a * g_b` ([`GauntTable::product`]), exactly for
-/// `lmax_out >= lmax_a + lmax_b`. Entries are sorted by `(out, a, b)`. Built from one 3j row per
-/// `(l_a, l_b, m_a, m_b)` (cost about that of the entries themselves).
-#[derive(Clone, Debug)]
-pub struct GauntTable {
-    basis: GauntBasis,
-    lmax_a: usize,
-    lmax_b: usize,
-    lmax_out: usize,
-    entries: Vec<GauntEntry>,
-}
-
-impl GauntTable {
-    /// Builds the table. Errors: [`Error::DegreeOutOfRange`] if `lmax_a` or `lmax_b` exceeds
-    /// [`MAX_TABLE_DEGREE`] or `lmax_out` exceeds [`MAX_GAUNT_DEGREE`].
-    pub fn new(basis: GauntBasis, lmax_a: usize, lmax_b: usize, lmax_out: usize) -> Result<Self> {
-        for (name, v) in [("lmax_a", lmax_a), ("lmax_b", lmax_b)] {
-            if v > MAX_TABLE_DEGREE {
-                return Err(Error::DegreeOutOfRange {
-                    name,
-                    value: degree_i64(v),
-                    reason: format!(
-                        "Gaunt tables are limited to degree {MAX_TABLE_DEGREE} per factor"
-                    ),
-                });
-            }
-        }
-        if lmax_out > MAX_GAUNT_DEGREE {
-            return Err(Error::DegreeOutOfRange {
-                name: "lmax_out",
-                value: degree_i64(lmax_out),
-                reason: format!("the largest degree supported is {MAX_GAUNT_DEGREE}"),
-            });
-        }
-        let mut entries = Vec::new();
-        let mut w0 = Vec::new();
-        let mut scratch = Vec::new();
-        // rows[(mu1 + l1) * (2 l2 + 1) + (mu2 + l2)] = (l3_min, row) for the complex pattern.
-        let mut rows: Vec<Option<(usize, Vec<f64>)>> = Vec::new();
-        for l1 in 0..=lmax_a {
-            for l2 in 0..=lmax_b {
-                let lo = l1.abs_diff(l2);
-                if lo > lmax_out {
-                    continue;
-                }
-                let hi = (l1 + l2).min(lmax_out);
-                let w0_min = row_unchecked(l1, l2, 0, 0, &mut w0);
-                let width = 2 * l2 + 1;
-                rows.clear();
-                rows.resize((2 * l1 + 1) * width, None);
-                let row =
-                    |mu1: i64, mu2: i64, rows: &mut Vec<Option<(usize, Vec<f64>)>>| -> usize {
-                        let key = (mu1 + l1 as i64) as usize * width + (mu2 + l2 as i64) as usize;
-                        if rows[key].is_none() {
-                            let mut v = Vec::new();
-                            let min = row_unchecked(l1, l2, mu1, mu2, &mut v);
-                            rows[key] = Some((min, v));
-                        }
-                        key
-                    };
-                for m1 in -(l1 as i64)..=l1 as i64 {
-                    for m2 in -(l2 as i64)..=l2 as i64 {
-                        let ia = lm_index(l1, m1) as u32;
-                        let ib = lm_index(l2, m2) as u32;
-                        // (output order m3, pattern (mu1, mu2), coefficient) triples.
-                        scratch.clear();
-                        match basis {
-                            GauntBasis::Complex => {
-                                let m = m1 + m2;
-                                let sign = if m.rem_euclid(2) == 1 { -1.0 } else { 1.0 };
-                                scratch.push((m, m1, m2, sign));
-                            }
-                            GauntBasis::Real => {
-                                let (a, b) = (m1.abs(), m2.abs());
-                                let mut cands = [a + b, -(a + b), (a - b).abs(), -(a - b).abs()];
-                                cands.sort_unstable();
-                                for (i, &m3) in cands.iter().enumerate() {
-                                    if i > 0 && cands[i - 1] == m3 {
-                                        continue;
-                                    }
-                                    if let Some((mu, c)) = real_coupling([m1, m2, m3]) {
-                                        scratch.push((m3, mu[0], mu[1], c));
-                                    }
-                                }
-                            }
-                        }
-                        for &(m3, mu1, mu2, c) in &scratch {
-                            let l3_first = lo.max(m3.unsigned_abs() as usize);
-                            if l3_first > hi {
-                                continue;
-                            }
-                            let key = row(mu1, mu2, &mut rows);
-                            let (rmin, r) = rows[key].as_ref().expect("row computed above");
-                            // l1 + l2 + l3 even.
-                            let mut l3 = l3_first + (l1 + l2 + l3_first) % 2;
-                            while l3 <= hi {
-                                let value = c
-                                    * gaunt_prefactor(l1, l2, l3)
-                                    * w0[l3 - w0_min]
-                                    * r[l3 - rmin];
-                                if value != 0.0 {
-                                    entries.push(GauntEntry {
-                                        out: lm_index(l3, m3) as u32,
-                                        a: ia,
-                                        b: ib,
-                                        value,
-                                    });
-                                }
-                                l3 += 2;
-                            }
-                        }
-                    }
-                }
-            }
-        }
-        entries.sort_unstable_by_key(|e| (e.out, e.a, e.b));
-        Ok(GauntTable {
-            basis,
-            lmax_a,
-            lmax_b,
-            lmax_out,
-            entries,
-        })
-    }
-
-    /// The basis the table couples.
-    pub fn basis(&self) -> GauntBasis {
-        self.basis
-    }
-    /// Band limit of the first factor.
-    pub fn lmax_a(&self) -> usize {
-        self.lmax_a
-    }
-    /// Band limit of the second factor.
-    pub fn lmax_b(&self) -> usize {
-        self.lmax_b
-    }
-    /// Band limit of the (truncated) product.
-    pub fn lmax_out(&self) -> usize {
-        self.lmax_out
-    }
-    /// The nonzero couplings, sorted by `(out, a, b)`.
-    pub fn entries(&self) -> &[GauntEntry] {
-        &self.entries
-    }
-    /// Number of nonzero couplings.
-    pub fn len(&self) -> usize {
-        self.entries.len()
-    }
-    /// Whether the table has no entries.
-    pub fn is_empty(&self) -> bool {
-        self.entries.is_empty()
-    }
-
-    /// Coefficients of the product `f g` (length `(lmax_out+1)^2`) from those of `f`
-    /// (length `(lmax_a+1)^2`) and `g` (length `(lmax_b+1)^2`), in the table's basis. Works for
-    /// real (`f64`) and complex (`Complex64`) coefficients alike.
-    /// Errors: [`Error::LengthMismatch`].
-    pub fn product<T>(&self, a: &[T], b: &[T]) -> Result<Vec<T>>
-    where
-        T: Copy + Default + Add<Output = T> + Mul<Output = T> + Mul<f64, Output = T>,
-    {
-        crate::error::check_len("a", num_coeffs(self.lmax_a), a.len())?;
-        crate::error::check_len("b", num_coeffs(self.lmax_b), b.len())?;
-        let mut out = vec![T::default(); num_coeffs(self.lmax_out)];
-        for e in &self.entries {
-            let o = &mut out[e.out as usize];
-            *o = *o + a[e.a as usize] * b[e.b as usize] * e.value;
-        }
-        Ok(out)
-    }
-
-    /// The matrix of multiplication by `f`: `M[out][j] = sum_a f_a C(out, a, j)`, row-major
-    /// with `(lmax_out+1)^2` rows and `(lmax_b+1)^2` columns, so that `(f g)_out = sum_j M[out][j] g_j`.
-    /// With `f` a visibility this is the spin-0 shadowing transfer matrix of PSH (55).
-    /// Errors: [`Error::LengthMismatch`].
-    pub fn product_matrix<T>(&self, a: &[T]) -> Result<Vec<T>>
-    where
-        T: Copy + Default + Add<Output = T> + Mul<Output = T> + Mul<f64, Output = T>,
-    {
-        crate::error::check_len("a", num_coeffs(self.lmax_a), a.len())?;
-        let nb = num_coeffs(self.lmax_b);
-        let mut m = vec![T::default(); num_coeffs(self.lmax_out) * nb];
-        for e in &self.entries {
-            let o = &mut m[e.out as usize * nb + e.b as usize];
-            *o = *o + a[e.a as usize] * e.value;
-        }
-        Ok(m)
-    }
-}
-
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
+    use crate::error::Error;
+    use crate::random::pseudo_random;
     use crate::sh::lm_of_index;
-
-    /// Compensated (Neumaier) sum accumulator.
-    #[derive(Default)]
-    struct Neumaier {
-        sum: f64,
-        comp: f64,
-    }
-
-    impl Neumaier {
-        fn add(&mut self, x: f64) {
-            let t = self.sum + x;
-            if self.sum.abs() >= x.abs() {
-                self.comp += (self.sum - t) + x;
-            } else {
-                self.comp += (x - t) + self.sum;
-            }
-            self.sum = t;
-        }
-        fn value(&self) -> f64 {
-            self.sum + self.comp
-        }
-    }
-
-    /// Independent reference: Racah's formula (DLMF 34.2.4) in f64, for small degrees
-    /// (factorials exact up to 22!, all terms summed in f64).
-    fn racah(l1: i64, l2: i64, l3: i64, m1: i64, m2: i64, m3: i64) -> f64 {
-        if m1 + m2 + m3 != 0 || l3 < (l1 - l2).abs() || l3 > l1 + l2 {
-            return 0.0;
-        }
-        let f = |n: i64| -> f64 { (1..=n).map(|k| k as f64).product() };
-        let delta = f(l1 + l2 - l3) * f(l1 - l2 + l3) * f(-l1 + l2 + l3) / f(l1 + l2 + l3 + 1);
-        let pre =
-            (delta * f(l1 + m1) * f(l1 - m1) * f(l2 + m2) * f(l2 - m2) * f(l3 + m3) * f(l3 - m3))
-                .sqrt();
-        let smin = 0.max(l2 - l3 - m1).max(l1 - l3 + m2);
-        let smax = (l1 + l2 - l3).min(l1 - m1).min(l2 + m2);
-        let mut sum = 0.0;
-        for s in smin..=smax {
-            let d = f(s)
-                * f(l1 + l2 - l3 - s)
-                * f(l1 - m1 - s)
-                * f(l2 + m2 - s)
-                * f(l3 - l2 + m1 + s)
-                * f(l3 - l1 - m2 + s);
-            sum += if s % 2 == 0 { 1.0 } else { -1.0 } / d;
-        }
-        let phase = if (l1 - l2 - m3).rem_euclid(2) == 0 {
-            1.0
-        } else {
-            -1.0
-        };
-        phase * pre * sum
-    }
-
-    /// Small deterministic generator (xorshift64*), for sampling test cases.
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> u64 {
-            self.0 ^= self.0 >> 12;
-            self.0 ^= self.0 << 25;
-            self.0 ^= self.0 >> 27;
-            self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-        }
-        fn range(&mut self, lo: i64, hi: i64) -> i64 {
-            lo + (self.next() % ((hi - lo + 1) as u64)) as i64
-        }
-    }
-
-    #[test]
-    fn matches_racah_formula_for_small_degrees() {
-        let mut max_err: f64 = 0.0;
-        for l1 in 0..=7i64 {
-            for l2 in 0..=7i64 {
-                for m1 in -l1..=l1 {
-                    for m2 in -l2..=l2 {
-                        let row = wigner_3j_row(l1 as usize, l2 as usize, m1, m2).unwrap();
-                        assert_eq!(row.l3_max(), (l1 + l2) as usize);
-                        for l3 in 0..=(l1 + l2 + 1) {
-                            let m3 = -m1 - m2;
-                            let expect = if m3.abs() > l3 {
-                                0.0
-                            } else {
-                                racah(l1, l2, l3, m1, m2, m3)
-                            };
-                            let got = row.get(l3 as usize);
-                            max_err = max_err.max((got - expect).abs());
-                            if m3.abs() <= l3 {
-                                let single =
-                                    wigner_3j(l1 as usize, l2 as usize, l3 as usize, m1, m2, m3)
-                                        .unwrap();
-                                max_err = max_err.max((single - expect).abs());
-                            }
-                        }
-                    }
-                }
-            }
-        }
-        assert!(max_err < 1e-14, "max abs error vs Racah {max_err:e}");
-    }
-
-    #[test]
-    fn special_closed_forms() {
-        // DLMF 34.3.1: (l l 0; m -m 0) = (-1)^{l-m} / sqrt(2l+1), for l up to 5000.
-        for &l in &[0usize, 1, 2, 7, 40, 333, 1000, 5000] {
-            for &m in &[0i64, 1, -1, (l / 3) as i64, -(l as i64), l as i64] {
-                if m.unsigned_abs() as usize > l {
-                    continue;
-                }
-                let v = wigner_3j(l, l, 0, m, -m, 0).unwrap();
-                let s = if (l as i64 - m).rem_euclid(2) == 0 {
-                    1.0
-                } else {
-                    -1.0
-                };
-                let e = s / ((2 * l + 1) as f64).sqrt();
-                assert!((v - e).abs() <= 1e-15 * e.abs(), "l={l} m={m}: {v} vs {e}");
-                // DLMF 34.3.2: (l l 1; m -m 0) = (-1)^{l-m} 2m / sqrt(2l(2l+1)(2l+2)).
-                if l >= 1 {
-                    let v1 = wigner_3j(l, l, 1, m, -m, 0).unwrap();
-                    let e1 = s * 2.0 * m as f64
-                        / ((2 * l) as f64 * (2 * l + 1) as f64 * (2 * l + 2) as f64).sqrt();
-                    assert!(
-                        (v1 - e1).abs() <= 2e-15 * e.abs(),
-                        "l={l} m={m}: {v1} vs {e1}"
-                    );
-                }
-            }
-        }
-    }
-
-    /// `sqrt(prod_i num_i! / prod_j den_j!)` as an f64 (None if it under/overflows), by
-    /// pairing the sorted factorial arguments and multiplying the surviving integer factors
-    /// with exact power-of-two rescaling: each factor costs at most two roundings, so the
-    /// relative error is below `2 eps` times the number of factors (a few thousand at most
-    /// here).
-    fn sqrt_fact_ratio(num: &[i64], den: &[i64]) -> Option<f64> {
-        let mut a = num.to_vec();
-        let mut b = den.to_vec();
-        while a.len() < b.len() {
-            a.push(0);
-        }
-        while b.len() < a.len() {
-            b.push(0);
-        }
-        a.sort_unstable();
-        b.sort_unstable();
-        let (mut mant, mut exp) = (1.0f64, 0i64);
-        for (&n, &d) in a.iter().zip(&b) {
-            for k in (n.min(d) + 1)..=(n.max(d)) {
-                if n > d {
-                    mant *= k as f64;
-                } else {
-                    mant /= k as f64;
-                }
-                if !(2f64.powi(-500)..=2f64.powi(500)).contains(&mant) {
-                    let e = mant.log2().floor() as i32;
-                    mant *= 2f64.powi(-e);
-                    exp += e as i64;
-                }
-            }
-        }
-        if exp % 2 != 0 {
-            mant *= 2.0;
-            exp -= 1;
-        }
-        let half = exp / 2;
-        if !(-1000..=1000).contains(&half) {
-            return None;
-        }
-        let v = mant.sqrt() * 2f64.powi(half as i32);
-        (v.is_normal()).then_some(v)
-    }
-
-    #[test]
-    fn stretched_closed_form_dlmf_34_3_6() {
-        // (l1 l2 l1+l2; m1 m2 -m1-m2) against the factorial formula DLMF 34.3.6.
-        let mut rng = Rng(0x1234_5678_9abc_def1);
-        let mut checked = 0;
-        for _ in 0..400 {
-            let big = rng.next() % 2 == 0;
-            let lmax = if big { 2500 } else { 40 };
-            let l1 = rng.range(0, lmax);
-            let l2 = rng.range(0, lmax);
-            let m1 = rng.range(-l1, l1);
-            let m2 = rng.range(-l2, l2);
-            let Some(mag) = sqrt_fact_ratio(
-                &[2 * l1, 2 * l2, l1 + l2 + m1 + m2, l1 + l2 - m1 - m2],
-                &[2 * l1 + 2 * l2 + 1, l1 + m1, l1 - m1, l2 + m2, l2 - m2],
-            ) else {
-                continue; // beyond the f64 range: underflow is expected
-            };
-            let s = if (l1 - l2 + m1 + m2).rem_euclid(2) == 0 {
-                1.0
-            } else {
-                -1.0
-            };
-            let e = s * mag;
-            let row = wigner_3j_row(l1 as usize, l2 as usize, m1, m2).unwrap();
-            let v = row.get((l1 + l2) as usize);
-            let tol = if big { 1e-12 } else { 2e-14 };
-            assert!(
-                (v - e).abs() <= tol * e.abs(),
-                "({l1} {l2} {}; {m1} {m2}): {v:e} vs {e:e}",
-                l1 + l2
-            );
-            checked += 1;
-        }
-        assert!(checked > 250);
-    }
-
-    #[test]
-    fn zero_m_closed_form_dlmf_34_3_5() {
-        // (l1 l2 l3; 0 0 0) with J = l1+l2+l3 even against DLMF 34.3.5.
-        let mut rng = Rng(0xdead_beef_cafe_f00d);
-        for _ in 0..300 {
-            let big = rng.next() % 2 == 0;
-            let lmax = if big { 3000 } else { 30 };
-            let l1 = rng.range(0, lmax);
-            let l2 = rng.range(0, lmax);
-            let mut l3 = rng.range((l1 - l2).abs(), l1 + l2);
-            if (l1 + l2 + l3) % 2 == 1 {
-                l3 -= 1;
-                if l3 < (l1 - l2).abs() {
-                    l3 += 2;
-                }
-            }
-            let j = l1 + l2 + l3;
-            let g = j / 2;
-            let mag = sqrt_fact_ratio(
-                &[j - 2 * l1, j - 2 * l2, j - 2 * l3, g, g],
-                &[j + 1, g - l1, g - l1, g - l2, g - l2, g - l3, g - l3],
-            )
-            .expect("(l1 l2 l3; 0 0 0) is within the f64 range here");
-            let e = if g % 2 == 0 { 1.0 } else { -1.0 } * mag;
-            let v = wigner_3j(l1 as usize, l2 as usize, l3 as usize, 0, 0, 0).unwrap();
-            let tol = if big { 1e-12 } else { 2e-14 };
-            assert!(
-                (v - e).abs() <= tol * e.abs(),
-                "({l1} {l2} {l3}; 0 0 0): {v:e} vs {e:e}"
-            );
-            // Odd J vanishes exactly.
-            if l3 < l1 + l2 {
-                assert_eq!(
-                    wigner_3j(l1 as usize, l2 as usize, (l3 + 1) as usize, 0, 0, 0).unwrap(),
-                    0.0
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn orthogonality_over_m() {
-        // sum_{m1 + m2 = -m3} (2 l3 + 1) (l1 l2 l3; m1 m2 m3)(l1 l2 l3'; m1 m2 m3) = δ_{l3 l3'}
-        // (DLMF §34.3(iv)); not implied by the row normalization, which is over l3.
-        for &(l1, l2, m3) in &[
-            (3usize, 5usize, 0i64),
-            (10, 10, 3),
-            (17, 4, -2),
-            (40, 33, 25),
-            (300, 250, 7),
-            (1200, 1100, -600),
-        ] {
-            let (j1, j2) = (l1 as i64, l2 as i64);
-            let jmin = (l1.abs_diff(l2)).max(m3.unsigned_abs() as usize);
-            let jmax = l1 + l2;
-            let n = jmax - jmin + 1;
-            let mut s = vec![0.0f64; n * n];
-            let mut row = Vec::new();
-            for m1 in -j1..=j1 {
-                let m2 = -m3 - m1;
-                if m2.abs() > j2 {
-                    continue;
-                }
-                let rmin = wigner_3j_row_into(l1, l2, m1, m2, &mut row).unwrap();
-                assert_eq!(rmin, jmin);
-                for i in 0..n {
-                    for k in 0..n {
-                        s[i * n + k] += (2 * (jmin + i) + 1) as f64 * row[i] * row[k];
-                    }
-                }
-            }
-            let mut err: f64 = 0.0;
-            for i in 0..n {
-                for k in 0..n {
-                    let e = if i == k { 1.0 } else { 0.0 };
-                    err = err.max((s[i * n + k] - e).abs());
-                }
-            }
-            let tol = if l1 > 500 { 1e-12 } else { 1e-13 };
-            assert!(err < tol, "l1={l1} l2={l2} m3={m3}: error {err:e}");
-        }
-    }
-
-    #[test]
-    fn orthogonality_over_l3() {
-        // sum_{l3} (2 l3 + 1) (l1 l2 l3; m1 m2 m3)(l1 l2 l3; m1' m2' m3) = δ_{m1 m1'} for
-        // m1 + m2 = m1' + m2' (DLMF §34.3(iv)); the diagonal is the normalization, the
-        // off-diagonal is a genuine check of the recursion and matching.
-        for &(l1, l2, msum) in &[
-            (6usize, 9usize, 2i64),
-            (25, 25, 0),
-            (64, 40, -13),
-            (2000, 1500, 100),
-        ] {
-            let (j1, j2) = (l1 as i64, l2 as i64);
-            let mut rows = Vec::new();
-            for m1 in -j1..=j1 {
-                let m2 = msum - m1;
-                if m2.abs() <= j2 && (m1 % 97 == 0 || l1 < 100) {
-                    rows.push(wigner_3j_row(l1, l2, m1, m2).unwrap());
-                }
-            }
-            let mut err: f64 = 0.0;
-            for (i, a) in rows.iter().enumerate() {
-                for (k, b) in rows.iter().enumerate() {
-                    let mut acc = Neumaier::default();
-                    for (l3, v) in a.iter() {
-                        acc.add((2 * l3 + 1) as f64 * v * b.get(l3));
-                    }
-                    let e = if i == k { 1.0 } else { 0.0 };
-                    err = err.max((acc.value() - e).abs());
-                }
-            }
-            let tol = if l1 > 500 { 1e-12 } else { 1e-14 };
-            assert!(err < tol, "l1={l1} l2={l2}: error {err:e}");
-        }
-    }
-
-    #[test]
-    fn symmetries() {
-        // DLMF 34.3.8-34.3.10: cyclic permutations leave the symbol unchanged, odd permutations
-        // and the sign flip of all m multiply it by (-1)^{l1+l2+l3}. Rows are compared across
-        // different recursion variables, so this exercises independent recursions.
-        let mut rng = Rng(42);
-        let mut max_err: f64 = 0.0;
-        for _ in 0..3000 {
-            let lmax = if rng.next() % 4 == 0 { 400 } else { 25 };
-            let l1 = rng.range(0, lmax);
-            let l2 = rng.range(0, lmax);
-            let l3 = rng.range((l1 - l2).abs(), l1 + l2);
-            let m1 = rng.range(-l1, l1);
-            let m2lo = (-l2).max(-l3 - m1);
-            let m2hi = l2.min(l3 - m1);
-            let m2 = rng.range(m2lo, m2hi);
-            let m3 = -m1 - m2;
-            let (u1, u2, u3) = (l1 as usize, l2 as usize, l3 as usize);
-            let p = if (l1 + l2 + l3) % 2 == 0 { 1.0 } else { -1.0 };
-            let r12 = wigner_3j_row(u1, u2, m1, m2).unwrap().get(u3);
-            let r23 = wigner_3j_row(u2, u3, m2, m3).unwrap().get(u1);
-            let r31 = wigner_3j_row(u3, u1, m3, m1).unwrap().get(u2);
-            let r21 = wigner_3j_row(u2, u1, m2, m1).unwrap().get(u3);
-            let r13 = wigner_3j_row(u1, u3, m1, m3).unwrap().get(u2);
-            let rneg = wigner_3j_row(u1, u2, -m1, -m2).unwrap().get(u3);
-            // Each value is the correctly rounded f64 of a double-double result, so two
-            // evaluations differ by at most one ulp; at nontrivial zeros both are tiny compared
-            // with the a-priori bound |3j| <= 1/sqrt(2 l + 1) (normalization in l).
-            let bound = 1.0 / ((2 * l1.max(l2).max(l3) + 1) as f64).sqrt();
-            for (name, v) in [
-                ("231", r23),
-                ("312", r31),
-                ("213", p * r21),
-                ("132", p * r13),
-                ("-m", p * rneg),
-            ] {
-                max_err = max_err.max((v - r12).abs() / bound);
-                assert!(
-                    (v - r12).abs() <= f64::EPSILON * r12.abs() + 1e-28 * bound,
-                    "{name}: ({l1} {l2} {l3}; {m1} {m2} {m3}) {v:e} vs {r12:e}"
-                );
-            }
-        }
-        eprintln!("symmetries: max |difference| / bound = {max_err:e}");
-    }
-
-    #[test]
-    fn selection_rules_give_exact_zeros() {
-        assert_eq!(wigner_3j(2, 3, 4, 1, 1, -1).unwrap(), 0.0); // m sum
-        assert_eq!(wigner_3j(2, 3, 6, 0, 0, 0).unwrap(), 0.0); // triangle
-        assert_eq!(wigner_3j(1, 1, 1, 0, 0, 0).unwrap(), 0.0); // parity
-        assert_eq!(wigner_3j(3, 3, 3, 1, 1, -2).unwrap(), 0.0); // l1 = l2, m1 = m2, odd J
-        assert_eq!(gaunt(1, 0, 1, 0, 1, 0).unwrap(), 0.0);
-        assert_eq!(gaunt(2, 1, 3, 1, 4, -1).unwrap(), 0.0);
-        assert_eq!(gaunt(2, 1, 3, -1, 6, 0).unwrap(), 0.0);
-        assert_eq!(gaunt(2, 1, 3, -1, 4, 0).unwrap(), 0.0); // odd l-sum with nonzero m
-        assert_eq!(gaunt_product(4, 1, 2, 1, 2, 1).unwrap(), 0.0);
-        assert_eq!(real_gaunt(1, 1, 1, -1, 2, 1).unwrap(), 0.0); // odd number of negative m
-        assert_eq!(real_gaunt(2, 1, 2, 1, 2, 1).unwrap(), 0.0); // no |m_i| = sum of the others
-        assert_eq!(real_gaunt(3, 1, 2, 2, 2, 0).unwrap(), 0.0);
-        // Rows: structural zeros of the two-step recursion are exact.
-        let r = wigner_3j_row(5, 7, 0, 0).unwrap();
-        for (l3, v) in r.iter() {
-            if (5 + 7 + l3) % 2 == 1 {
-                assert_eq!(v, 0.0);
-            } else {
-                assert!(v != 0.0);
-            }
-        }
-    }
-
-    #[test]
-    fn bad_input_is_an_error() {
-        assert!(matches!(
-            wigner_3j(1, 1, 1, 2, 0, -2),
-            Err(Error::OrderOutOfRange { name: "m1", .. })
-        ));
-        assert!(matches!(
-            wigner_3j(1, 1, 1, 0, 0, -3),
-            Err(Error::OrderOutOfRange { name: "m3", .. })
-        ));
-        assert!(matches!(
-            wigner_3j_row(3, 2, 0, 5),
-            Err(Error::OrderOutOfRange { name: "m2", .. })
-        ));
-        assert!(matches!(
-            wigner_3j(MAX_GAUNT_DEGREE + 1, 1, 1, 0, 0, 0),
-            Err(Error::DegreeOutOfRange { name: "l1", .. })
-        ));
-        assert!(matches!(
-            gaunt(2, 0, 2, 3, 2, 0),
-            Err(Error::OrderOutOfRange { .. })
-        ));
-        assert!(matches!(
-            gaunt_product(1, 2, 1, 1, 1, 1),
-            Err(Error::OrderOutOfRange { name: "m", .. })
-        ));
-        assert!(matches!(
-            real_gaunt(0, 0, usize::MAX, 0, 0, 0),
-            Err(Error::DegreeOutOfRange { .. })
-        ));
-        assert!(matches!(
-            real_gaunt(2, i64::MIN, 2, 0, 2, 0),
-            Err(Error::OrderOutOfRange { .. })
-        ));
-        assert!(GauntTable::new(GauntBasis::Real, MAX_TABLE_DEGREE + 1, 1, 2).is_err());
-        let t = GauntTable::new(GauntBasis::Real, 1, 1, 2).unwrap();
-        assert!(matches!(
-            t.product(&[1.0; 3], &[1.0; 4]),
-            Err(Error::LengthMismatch { name: "a", .. })
-        ));
-    }
-
-    #[test]
-    fn large_degree_rows_are_finite_and_normalized() {
-        // Degrees up to MAX_GAUNT_DEGREE: no overflow, no NaN, and the largest-l3 value still
-        // has the sign of DLMF 34.3.6 even where its magnitude underflows.
-        for &(l1, l2, m1, m2) in &[
-            (8192usize, 8192usize, 8192i64, -8192i64),
-            (8192, 3, -100, 2),
-            (16384, 16384, 16384, -1),
-            (5000, 4000, 0, 0),
-            (6000, 6000, 17, 17),
-        ] {
-            let row = wigner_3j_row(l1, l2, m1, m2).unwrap();
-            let mut acc = Neumaier::default();
-            for (l3, v) in row.iter() {
-                assert!(v.is_finite());
-                acc.add((2 * l3 + 1) as f64 * v * v);
-            }
-            assert!(
-                (acc.value() - 1.0).abs() < 1e-12,
-                "{l1} {l2} {m1} {m2}: {}",
-                acc.value()
-            );
-        }
-    }
-
-    // ---- Gaunt coefficients against hand-written polynomial harmonics (l <= 2) ----
+    use crate::sh::wigner3j::tests::pick;
 
     /// A polynomial in (x, y, z) on the unit sphere: (exponents, complex coefficient).
-    type Poly = Vec<([u32; 3], Complex64)>;
+    pub(crate) type Poly = Vec<([u32; 3], Complex64)>;
 
     fn mono(c: Complex64, e: [u32; 3]) -> Poly {
         vec![(e, c)]
     }
 
-    fn poly_mul(p: &Poly, q: &Poly) -> Poly {
+    pub(crate) fn poly_mul(p: &Poly, q: &Poly) -> Poly {
         let mut r = Vec::new();
         for (ea, ca) in p {
             for (eb, cb) in q {
@@ -1463,7 +206,7 @@ mod tests {
 
     /// ∫_{S^2} x^a y^b z^c dω = 4 pi (a-1)!! (b-1)!! (c-1)!! / (a+b+c+1)!! for a, b, c even,
     /// zero otherwise.
-    fn integrate(p: &Poly) -> Complex64 {
+    pub(crate) fn integrate(p: &Poly) -> Complex64 {
         let dfact = |n: i64| -> f64 {
             let mut r = 1.0;
             let mut k = n;
@@ -1530,7 +273,7 @@ mod tests {
     }
 
     /// Real Y^R_lm of PSH (12) for l <= 2, written out by hand (Condon-Shortley sign kept).
-    fn real_y(l: usize, m: i64) -> Poly {
+    pub(crate) fn real_y(l: usize, m: i64) -> Poly {
         use std::f64::consts::PI;
         let r = |v: f64| Complex64::new(v, 0.0);
         match (l, m) {
@@ -1626,14 +369,16 @@ mod tests {
 
     #[test]
     fn real_gaunt_is_symmetric() {
-        let mut rng = Rng(7);
         let mut count = 0;
-        while count < 500 {
-            let l = [rng.range(0, 30), rng.range(0, 30), rng.range(0, 30)];
+        for x in pseudo_random(6 * 100_000, 4).chunks(6) {
+            if count == 500 {
+                break;
+            }
+            let l = [pick(x[0], 0, 30), pick(x[1], 0, 30), pick(x[2], 0, 30)];
             let m = [
-                rng.range(-l[0], l[0]),
-                rng.range(-l[1], l[1]),
-                rng.range(-l[2], l[2]),
+                pick(x[3], -l[0], l[0]),
+                pick(x[4], -l[1], l[1]),
+                pick(x[5], -l[2], l[2]),
             ];
             let u = l.map(|v| v as usize);
             let v = real_gaunt(u[0], m[0], u[1], m[1], u[2], m[2]).unwrap();
@@ -1649,103 +394,38 @@ mod tests {
                 );
             }
         }
+        assert_eq!(count, 500);
     }
 
     #[test]
-    fn tables_hold_exactly_the_nonzero_couplings() {
-        use std::collections::HashMap;
-        for basis in [GauntBasis::Complex, GauntBasis::Real] {
-            let (la, lb, lo) = (4usize, 3usize, 6usize);
-            let t = GauntTable::new(basis, la, lb, lo).unwrap();
-            let e = t.entries();
-            assert!(e
-                .windows(2)
-                .all(|w| (w[0].out, w[0].a, w[0].b) < (w[1].out, w[1].a, w[1].b)));
-            let map: HashMap<(usize, usize, usize), f64> = e
-                .iter()
-                .map(|x| ((x.out as usize, x.a as usize, x.b as usize), x.value))
-                .collect();
-            let mut nonzero = 0;
-            for out in 0..num_coeffs(lo) {
-                for a in 0..num_coeffs(la) {
-                    for b in 0..num_coeffs(lb) {
-                        let (l, m) = lm_of_index(out);
-                        let (l1, m1) = lm_of_index(a);
-                        let (l2, m2) = lm_of_index(b);
-                        let v = match basis {
-                            GauntBasis::Complex => gaunt_product(l, m, l1, m1, l2, m2).unwrap(),
-                            GauntBasis::Real => real_gaunt(l, m, l1, m1, l2, m2).unwrap(),
-                        };
-                        // Selection rules, written out independently.
-                        let tri = l1.abs_diff(l2) <= l && l <= l1 + l2 && (l + l1 + l2) % 2 == 0;
-                        let allowed = tri
-                            && match basis {
-                                GauntBasis::Complex => m == m1 + m2,
-                                GauntBasis::Real => {
-                                    let neg = [m, m1, m2].iter().filter(|&&x| x < 0).count();
-                                    let (x, y, z) = (m.abs(), m1.abs(), m2.abs());
-                                    neg % 2 == 0 && (x == y + z || y == x + z || z == x + y)
-                                }
-                            };
-                        match map.get(&(out, a, b)) {
-                            // Values agree; nontrivial zeros such as (3 3 2; -2 2 0) = 0 come
-                            // out at rounding level (or exactly zero) in either computation.
-                            Some(&tv) => {
-                                assert!(allowed, "{basis:?}: entry {out} {a} {b} not allowed");
-                                assert!((tv - v).abs() <= 1e-15, "{basis:?} {out} {a} {b}");
-                                nonzero += 1;
-                            }
-                            None => {
-                                assert!(v.abs() <= 1e-15, "{basis:?}: missing {out} {a} {b}");
-                                if !allowed {
-                                    assert_eq!(v, 0.0);
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-            assert_eq!(nonzero, e.len());
-        }
+    fn selection_rules_give_exact_zeros() {
+        assert_eq!(gaunt(1, 0, 1, 0, 1, 0).unwrap(), 0.0);
+        assert_eq!(gaunt(2, 1, 3, 1, 4, -1).unwrap(), 0.0);
+        assert_eq!(gaunt(2, 1, 3, -1, 6, 0).unwrap(), 0.0);
+        assert_eq!(gaunt(2, 1, 3, -1, 4, 0).unwrap(), 0.0); // odd l-sum with nonzero m
+        assert_eq!(gaunt_product(4, 1, 2, 1, 2, 1).unwrap(), 0.0);
+        assert_eq!(real_gaunt(1, 1, 1, -1, 2, 1).unwrap(), 0.0); // odd number of negative m
+        assert_eq!(real_gaunt(2, 1, 2, 1, 2, 1).unwrap(), 0.0); // no |m_i| = sum of the others
+        assert_eq!(real_gaunt(3, 1, 2, 2, 2, 0).unwrap(), 0.0);
     }
 
     #[test]
-    fn table_product_reproduces_triple_integrals() {
-        // For band-limited f, g (l <= 2) and h (l <= 2), ∫ f g h = sum_k (f g)_k h_k, with all
-        // three written as hand polynomials and integrated exactly.
-        let mut rng = Rng(99);
-        let t = GauntTable::new(GauntBasis::Real, 2, 2, 4).unwrap();
-        let rand = |rng: &mut Rng| (rng.next() % 2001) as f64 / 1000.0 - 1.0;
-        let f: Vec<f64> = (0..9).map(|_| rand(&mut rng)).collect();
-        let g: Vec<f64> = (0..9).map(|_| rand(&mut rng)).collect();
-        let h: Vec<f64> = (0..9).map(|_| rand(&mut rng)).collect();
-        let expand = |c: &[f64]| -> Poly {
-            let mut p = Vec::new();
-            for (i, &ci) in c.iter().enumerate() {
-                let (l, m) = lm_of_index(i);
-                for (e, v) in real_y(l, m) {
-                    p.push((e, v * ci));
-                }
-            }
-            p
-        };
-        let exact = integrate(&poly_mul(&poly_mul(&expand(&f), &expand(&g)), &expand(&h))).re;
-        let fg = t.product(&f, &g).unwrap();
-        let via_table: f64 = (0..9).map(|k| fg[k] * h[k]).sum();
-        assert!((via_table - exact).abs() < 1e-14, "{via_table} vs {exact}");
-        // The multiplication matrix agrees with the product.
-        let m = t.product_matrix(&f).unwrap();
-        for (o, &fgo) in fg.iter().enumerate() {
-            let v: f64 = (0..9).map(|j| m[o * 9 + j] * g[j]).sum();
-            assert!((v - fgo).abs() < 1e-15);
-        }
-        // Complex coefficients through the same table.
-        let fc: Vec<Complex64> = f.iter().map(|&v| Complex64::new(v, -v)).collect();
-        let gc: Vec<Complex64> = g.iter().map(|&v| Complex64::new(0.0, v)).collect();
-        let fgc = t.product(&fc, &gc).unwrap();
-        for (k, v) in fgc.iter().enumerate() {
-            // (1 - i) f * i g = (1 + i) f g
-            assert!((v - Complex64::new(fg[k], fg[k])).norm() < 1e-15);
-        }
+    fn bad_input_is_an_error() {
+        assert!(matches!(
+            gaunt(2, 0, 2, 3, 2, 0),
+            Err(Error::OrderOutOfRange { .. })
+        ));
+        assert!(matches!(
+            gaunt_product(1, 2, 1, 1, 1, 1),
+            Err(Error::OrderOutOfRange { name: "m", .. })
+        ));
+        assert!(matches!(
+            real_gaunt(0, 0, usize::MAX, 0, 0, 0),
+            Err(Error::DegreeOutOfRange { .. })
+        ));
+        assert!(matches!(
+            real_gaunt(2, i64::MIN, 2, 0, 2, 0),
+            Err(Error::OrderOutOfRange { .. })
+        ));
     }
 }

@@ -28,10 +28,10 @@
 //! is lost; measured in `psh verify` (`sh.fast_path_l2048`, `sh.band_norm_l2048`).
 
 use super::check_lmax;
+use super::double_double::Dd;
 use crate::error::Result;
 use crate::geometry::check_theta;
 use std::ops::{Mul, Sub};
-use twofloat::TwoFloat;
 
 /// Exponent step of the scaled recursion: values are `mantissa * 2^(-SCALE_BITS * k)`.
 pub(crate) const SCALE_BITS: i32 = 600;
@@ -60,7 +60,7 @@ impl Polar {
     /// From a polar angle in `[0, pi]` (not validated: callers check it).
     pub fn from_theta(theta: f64) -> Self {
         let (t, south) = northern(theta);
-        let t = t.hi();
+        let t = t.hi;
         let (s, c) = t.sin_cos();
         let h = (0.5 * t).sin();
         Self {
@@ -77,15 +77,15 @@ impl Polar {
     /// (whose relative error would grow `m`-fold in `sin^m theta`).
     pub fn from_theta_accurate(theta: f64) -> Self {
         let (t, south) = northern(theta);
-        let (s, c) = (t.sin(), t.cos());
-        let h = (t * 0.5).sin();
+        let (s, c) = t.sin_cos();
+        let h = (t * 0.5).sin_cos().0;
         let v = h * h * 2.0;
         Self {
-            cos: c.hi(),
-            sin: s.hi(),
-            vers: v.hi(),
+            cos: c.hi,
+            sin: s.hi,
+            vers: v.hi,
             south,
-            lo: [s.lo(), v.lo()],
+            lo: [s.lo, v.lo],
         }
     }
 
@@ -109,11 +109,11 @@ const PI_LO: f64 = 1.2246467991473532e-16;
 /// `pi - theta = (PI - theta) + PI_LO`, where `PI - theta` is exact (Sterbenz) for
 /// `theta` in `[pi/2, pi]`: at `theta = PI` (an f64 short of pi by `PI_LO`) the reflected
 /// angle is `PI_LO`, not 0.
-fn northern(theta: f64) -> (TwoFloat, bool) {
+fn northern(theta: f64) -> (Dd, bool) {
     if theta > std::f64::consts::FRAC_PI_2 {
-        (TwoFloat::new_add(std::f64::consts::PI - theta, PI_LO), true)
+        (Dd::sum(std::f64::consts::PI - theta, PI_LO), true)
     } else {
-        (TwoFloat::from(theta), false)
+        (Dd::from_f64(theta), false)
     }
 }
 
@@ -139,18 +139,18 @@ impl Arith for f64 {
     }
 }
 
-impl Arith for TwoFloat {
+impl Arith for Dd {
     #[inline(always)]
     fn of(x: f64) -> Self {
-        TwoFloat::from(x)
+        Dd::from_f64(x)
     }
     #[inline(always)]
     fn of2(hi: f64, lo: f64) -> Self {
-        TwoFloat::new_add(hi, lo)
+        Dd::sum(hi, lo)
     }
     #[inline(always)]
     fn to_f64(self) -> f64 {
-        self.hi() + self.lo()
+        self.hi + self.lo
     }
 }
 
@@ -252,17 +252,17 @@ fn columns_accurate(lmax: usize, mmax: usize, polar: Polar, f: impl FnMut(usize,
         lmax,
         mmax,
         polar,
-        |m| -TwoFloat::new_div((2 * m + 1) as f64, (2 * m) as f64).sqrt(),
+        |m| -Dd::quotient((2 * m + 1) as f64, (2 * m) as f64).sqrt(),
         |m, k| {
             let l = m + k;
             let (num, den) = a_squared(l, m);
             let inv_prev = if k == 1 {
-                TwoFloat::from(0.0)
+                Dd::ZERO
             } else {
                 let (pn, pd) = a_squared(l - 1, m);
-                TwoFloat::new_div(pd, pn).sqrt()
+                Dd::quotient(pd, pn).sqrt()
             };
-            (TwoFloat::new_div(num, den).sqrt(), inv_prev)
+            (Dd::quotient(num, den).sqrt(), inv_prev)
         },
         f,
     );

@@ -1,12 +1,15 @@
 //! Scalar spherical harmonics: Legendre functions, complex and real SH, Wigner D
-//! rotations, exact quadrature and transforms, Gaunt coefficients, zonal harmonics,
-//! solid harmonics with Cartesian SH gradients and Hessians (SHH).
+//! rotations, exact quadrature and transforms, Wigner 3j symbols, Gaunt coefficients and
+//! their tables, zonal harmonics, solid harmonics with Cartesian SH gradients and Hessians
+//! (SHH).
 //!
 //! Conventions (see `docs/conventions.md`): `Y_lm = A_lm P_l^m(cos theta) e^{i m phi}`
 //! with the Condon-Shortley phase in `P_l^m` (PSH (1)); real SH by PSH (12); coefficients
 //! stored in flat order `l*l + l + m`.
 
+mod double_double;
 pub mod gaunt;
+pub mod gaunt_table;
 pub mod grid;
 pub mod harmonics;
 pub mod legendre;
@@ -14,7 +17,12 @@ pub mod pixel;
 pub mod solid;
 pub mod transform;
 pub mod wigner;
+pub mod wigner3j;
 pub mod zonal;
+
+pub use gaunt::{gaunt, gaunt_product, real_gaunt};
+pub use gaunt_table::{GauntBasis, GauntEntry, GauntTable, MAX_TABLE_DEGREE};
+pub use wigner3j::{wigner_3j, wigner_3j_row, wigner_3j_row_into, Wigner3jRow, MAX_GAUNT_DEGREE};
 
 use crate::error::{Error, Result};
 

@@ -13,9 +13,17 @@
 //!
 //! The small d come from Risbo's recursion, stable to `l >= 1000` at every angle, poles
 //! included; evaluating one direction costs `O(lmax^3)` (all blocks), which is meant for
-//! single directions and reference values, not for transforms.
+//! single directions and reference values, not for transforms: those use the recursion in
+//! `l` of [`SpinEvaluator`] (`O(lmax^2)` per direction) and [`SpinTransform`] (on the exact
+//! grid).
 
+pub mod evaluator;
+mod recursion;
 pub mod transform;
+
+pub use evaluator::SpinEvaluator;
+pub(crate) use recursion::HalfAngle;
+pub use transform::SpinTransform;
 
 use crate::error::{finite, Error, Result};
 use crate::geometry::check_theta;

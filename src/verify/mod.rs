@@ -12,7 +12,7 @@ pub mod isd;
 mod lights;
 mod matrix;
 mod optics;
-mod oracle;
+pub(crate) mod oracle;
 mod pbrdf;
 pub use pbrdf::{energy_below_horizon, isobi2_index, HORIZON_BOUND};
 mod plan;

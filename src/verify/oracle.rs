@@ -4,10 +4,10 @@
 //! The fixtures are compiled into the library so that `psh verify` runs anywhere.
 
 use crate::error::{Error, Result};
-use crate::sh::gaunt::{gaunt, gaunt_product, real_gaunt, wigner_3j};
 use crate::sh::legendre::{legendre_all, tri_index};
 use crate::sh::solid::{sh_derivatives, HESSIAN_ENTRIES};
 use crate::sh::wigner::small_d_block;
+use crate::sh::{gaunt, gaunt_product, real_gaunt, wigner_3j};
 use serde_json::Value;
 
 const LEGENDRE: &str = include_str!("../../tests/fixtures/legendre.json");
@@ -147,37 +147,46 @@ pub fn wigner_d(range: std::ops::RangeInclusive<usize>) -> Result<f64> {
     Ok(worst)
 }
 
+/// One entry of `gaunt.json`: degrees, orders and the exact value rounded to f64.
+pub type GauntEntry = ([usize; 3], [i64; 3], f64);
+
+/// The entries of list `key` of `gaunt.json` (`"wigner3j"`, `"gaunt"`, `"gaunt_product"`,
+/// `"real_gaunt"`), exact by Racah's formula in rational arithmetic.
+pub fn gaunt_entries(key: &str) -> Result<Vec<GauntEntry>> {
+    let name = "gaunt.json";
+    let fx = parse(name, GAUNT)?;
+    let entries = fx[key]
+        .as_array()
+        .ok_or_else(|| malformed(name, format!("no {key}")))?;
+    entries
+        .iter()
+        .map(|e| {
+            let mut l = [0; 3];
+            let mut m = [0; 3];
+            for i in 0..3 {
+                l[i] = uint(name, &e["l"][i], "l")?;
+                m[i] = e["m"][i]
+                    .as_i64()
+                    .ok_or_else(|| malformed(name, "m is not an integer"))?;
+            }
+            Ok((l, m, value(name, &e["value"])?))
+        })
+        .collect()
+}
+
 /// Max relative error of the f64 3j symbols and complex, product-form and real Gaunt
 /// coefficients over the fixture (l1, l2 <= 50); at exact zeros, the absolute error.
 pub fn gaunt_coefficients() -> Result<f64> {
-    let name = "gaunt.json";
-    let fx = parse(name, GAUNT)?;
     type F = fn(usize, i64, usize, i64, usize, i64) -> Result<f64>;
     let lists: [(&str, F); 4] = [
-        ("wigner3j", |l1, m1, l2, m2, l3, m3| {
-            wigner_3j(l1, l2, l3, m1, m2, m3)
-        }),
+        ("wigner3j", wigner_3j),
         ("gaunt", gaunt),
         ("gaunt_product", gaunt_product),
         ("real_gaunt", real_gaunt),
     ];
     let mut worst = 0.0f64;
     for (key, f) in lists {
-        let entries = fx[key]
-            .as_array()
-            .ok_or_else(|| malformed(name, format!("no {key}")))?;
-        for e in entries {
-            let l: Vec<usize> = (0..3)
-                .map(|i| uint(name, &e["l"][i], "l"))
-                .collect::<Result<_>>()?;
-            let m: Vec<i64> = (0..3)
-                .map(|i| {
-                    e["m"][i]
-                        .as_i64()
-                        .ok_or_else(|| malformed(name, "m is not an integer"))
-                })
-                .collect::<Result<_>>()?;
-            let exact = value(name, &e["value"])?;
+        for (l, m, exact) in gaunt_entries(key)? {
             let got = f(l[0], m[0], l[1], m[1], l[2], m[2])?;
             let err = (got - exact).abs() / if exact == 0.0 { 1.0 } else { exact.abs() };
             worst = worst.max(if err.is_nan() { f64::INFINITY } else { err });

@@ -5,7 +5,7 @@ use crate::error::Result;
 use crate::random::pseudo_random;
 use crate::sh::grid::SphereGrid;
 use crate::sh::{lm_index, num_coeffs};
-use crate::swsh::transform::SpinTransform;
+use crate::swsh::SpinTransform;
 use crate::swsh::{spin2_closed_form, swsh};
 use num_complex::Complex64;
 use std::f64::consts::PI;
