@@ -59,9 +59,9 @@ class Psh:
         return path
 
     def npy(self, *args, out):
-        """Runs psh with `--out out` and returns (JSON, the array written)."""
+        """Runs psh with `--output out` and returns (JSON, the array written)."""
         path = self.path(out)
-        meta = self.run(*args, "--out", path)
+        meta = self.run(*args, "--output", path)
         return meta, np.load(path)
 
 

@@ -64,7 +64,7 @@ def psh_theta(psh):
     """psh's ring angles (the grid of `psh eval sht` / `spin-sht` at L)."""
     meta = psh.run("eval", "sht", "--kind", "real", "--lmax", L, "--op", "synthesis",
                    "--input", psh.save("zero.npy", np.zeros((L + 1) ** 2)),
-                   "--out", psh.path("zero_map.npy"))["grid"]
+                   "--output", psh.path("zero_map.npy"))["grid"]
     assert (meta["n_theta"], meta["n_phi"]) == (NTHETA, NPHI)
     return np.array(meta["theta"])
 

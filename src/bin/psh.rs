@@ -83,23 +83,24 @@ enum Command {
 
 #[derive(Args)]
 struct BenchErrorArgs {
-    /// A scene file (TOML), or `builtin`.
-    scene: String,
+    /// A scene file (TOML); the built-in scene without it.
+    #[arg(long)]
+    scene: Option<PathBuf>,
     /// Output directory.
     #[arg(long)]
     out: PathBuf,
     /// Image size WxH (replaces the scene camera's).
-    #[arg(long, default_value = "160x120")]
-    size: String,
+    #[arg(long, default_value = "160x120", value_parser = parse_size)]
+    size: ImageSize,
     /// Largest band limit of the PPRT rows.
     #[arg(long, default_value_t = 9)]
-    l_max: usize,
+    lmax: usize,
     /// Visibility rays per vertex of the PPRT rows.
     #[arg(long, default_value_t = 256)]
     rays: usize,
     /// Samples per pixel of the reference rows, comma-separated.
-    #[arg(long, default_value = "1,4,16,64,256")]
-    spp: String,
+    #[arg(long, default_value = "1,4,16,64,256", value_delimiter = ',', value_parser = parse_spp)]
+    spp: Vec<usize>,
     /// Samples per pixel of the ground truth.
     #[arg(long, default_value_t = 2048)]
     ground_truth_spp: usize,
@@ -133,11 +134,17 @@ struct RenderArgs {
     #[arg(long, conflicts_with = "no_shadows")]
     ablation: bool,
     /// Image size WxH of the built-in scene (a scene file gives its camera's).
-    #[arg(long, default_value = "480x360")]
-    size: String,
+    #[arg(long, default_value = "480x360", value_parser = parse_size)]
+    size: ImageSize,
     /// Polarizer angles in degrees (from image-right towards image-up), comma-separated.
-    #[arg(long, default_value = "0,45,90,135", allow_hyphen_values = true)]
-    polarizer: String,
+    #[arg(
+        long,
+        default_value = "0,45,90,135",
+        allow_hyphen_values = true,
+        value_delimiter = ',',
+        value_parser = parse_angle
+    )]
+    polarizer: Vec<f64>,
     /// Print the plan (what the scene needs and why, src/pprt/plan.rs) after rendering
     /// with it; the render is planned unless --no-plan.
     #[arg(long, conflicts_with = "no_plan")]
@@ -161,8 +168,11 @@ impl Default for RenderArgs {
             rays: None,
             no_shadows: false,
             ablation: false,
-            size: "480x360".into(),
-            polarizer: "0,45,90,135".into(),
+            size: ImageSize {
+                width: 480,
+                height: 360,
+            },
+            polarizer: vec![0.0, 45.0, 90.0, 135.0],
             plan: false,
             no_plan: false,
             tolerance: 1e-3,
@@ -223,6 +233,30 @@ struct FilterReportArgs {
     markdown: bool,
 }
 
+/// The polarsh names of the Stokes codomains.
+#[derive(Clone, Copy, ValueEnum)]
+enum CodomainName {
+    #[value(name = "SCALAR")]
+    Scalar,
+    #[value(name = "POLAR2")]
+    Polar2,
+    #[value(name = "POLAR3")]
+    Polar3,
+    #[value(name = "POLAR4")]
+    Polar4,
+}
+
+impl CodomainName {
+    fn codomain(self) -> Codomain {
+        match self {
+            CodomainName::Scalar => Codomain::Intensity,
+            CodomainName::Polar2 => Codomain::Linear,
+            CodomainName::Polar3 => Codomain::NoCircular,
+            CodomainName::Polar4 => Codomain::Full,
+        }
+    }
+}
+
 #[derive(Args)]
 struct ProjectArgs {
     /// The component files: a pattern with %d (map_s%d.exr) or one of them (map_s0.exr).
@@ -231,8 +265,8 @@ struct ProjectArgs {
     #[arg(long)]
     lmax: usize,
     /// Stokes components to keep: POLAR2 (s1, s2), POLAR3 (s0..s2) or POLAR4 (s0..s3).
-    #[arg(long, default_value = "POLAR4")]
-    codomain: String,
+    #[arg(long, value_enum, default_value = "POLAR4")]
+    codomain: CodomainName,
     /// Output .npz.
     #[arg(short, long)]
     output: PathBuf,
@@ -243,8 +277,8 @@ struct RotateArgs {
     /// Input .npz.
     input: PathBuf,
     /// Rotation vector X,Y,Z: axis times angle in radians (active rotation, PSH (8)).
-    #[arg(long, allow_hyphen_values = true)]
-    rotvec: String,
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_rotvec)]
+    rotvec: [f64; 3],
     /// Output .npz.
     #[arg(short, long)]
     output: PathBuf,
@@ -255,8 +289,13 @@ struct ReconstructArgs {
     /// Input .npz.
     input: PathBuf,
     /// Equirectangular image of H rows and W = 2H columns.
-    #[arg(long, conflicts_with = "cube", required_unless_present = "cube")]
-    equirect: Option<String>,
+    #[arg(
+        long,
+        conflicts_with = "cube",
+        required_unless_present = "cube",
+        value_parser = parse_equirect
+    )]
+    equirect: Option<EquirectSize>,
     /// Cube cross of faces of E x E texels (3E x 4E image).
     #[arg(long)]
     cube: Option<usize>,
@@ -310,11 +349,11 @@ struct WignerBlockArgs {
     #[arg(long)]
     l: usize,
     /// Rotation vector X,Y,Z: axis times angle in radians (active rotation, PSH (8)).
-    #[arg(long, allow_hyphen_values = true)]
-    rotvec: String,
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_rotvec)]
+    rotvec: [f64; 3],
     /// Output .npy: float64 [2l+1, 2l+1] (real) or [2l+1, 2l+1, 2] (complex).
-    #[arg(long)]
-    out: PathBuf,
+    #[arg(short, long)]
+    output: PathBuf,
 }
 
 #[derive(Args)]
@@ -328,8 +367,8 @@ struct SwshPointsArgs {
     #[arg(long)]
     points: PathBuf,
     /// Output .npy: float64 [points, (lmax+1)^2, 2].
-    #[arg(long)]
-    out: PathBuf,
+    #[arg(short, long)]
+    output: PathBuf,
 }
 
 #[derive(Args)]
@@ -340,8 +379,8 @@ struct ShDerivativesArgs {
     #[arg(long)]
     points: PathBuf,
     /// Output .npy: float64 [points, (lmax+1)^2, 10].
-    #[arg(long)]
-    out: PathBuf,
+    #[arg(short, long)]
+    output: PathBuf,
 }
 
 #[derive(Args)]
@@ -380,8 +419,8 @@ struct ShtArgs {
     #[arg(long)]
     input: PathBuf,
     /// Output .npy (the other of the two shapes).
-    #[arg(long)]
-    out: PathBuf,
+    #[arg(short, long)]
+    output: PathBuf,
 }
 
 #[derive(Args)]
@@ -398,8 +437,8 @@ struct SpinShtArgs {
     #[arg(long)]
     input: PathBuf,
     /// Output .npy (the other of the two shapes).
-    #[arg(long)]
-    out: PathBuf,
+    #[arg(short, long)]
+    output: PathBuf,
 }
 
 #[derive(Args)]
@@ -477,8 +516,8 @@ struct WignerArgs {
     #[arg(long)]
     lmax: usize,
     /// Rotation vector X,Y,Z: axis times angle in radians (active rotation, PSH (8)).
-    #[arg(long, allow_hyphen_values = true)]
-    rotvec: String,
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_rotvec)]
+    rotvec: [f64; 3],
 }
 
 /// Largest degree `psh eval wigner` prints (the output grows like lmax^3).
@@ -734,7 +773,7 @@ fn parse_rotvec(text: &str) -> psh::Result<[f64; 3]> {
 }
 
 fn project(a: &ProjectArgs) -> psh::Result<serde_json::Value> {
-    let codomain = Codomain::from_name(&a.codomain)?;
+    let codomain = a.codomain.codomain();
     psh::sh::check_lmax(a.lmax)?;
     let map = psh::io::exr::read_stokes_map(&a.input)?;
     let v = map.project(codomain, a.lmax)?;
@@ -748,7 +787,7 @@ fn project(a: &ProjectArgs) -> psh::Result<serde_json::Value> {
 
 fn rotate(a: &RotateArgs) -> psh::Result<serde_json::Value> {
     let v = psh::io::npz::read_psh_npz(&a.input)?;
-    let rotvec = parse_rotvec(&a.rotvec)?;
+    let rotvec = a.rotvec;
     let r = rotation_from_rotvec(rotvec)?;
     let rotated = PshRotation::new(&r, v.lmax())?.rotate(&v)?;
     psh::io::npz::write_psh_npz(&a.output, &rotated)?;
@@ -797,24 +836,8 @@ fn convolve(a: &ConvolveArgs) -> psh::Result<serde_json::Value> {
 }
 
 fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
-    let bad = |name: &'static str, value: &str, reason: &str| Error::InvalidArgument {
-        name,
-        value: value.to_string(),
-        reason: reason.into(),
-    };
-    let (w, h) = parse_size(&a.size)?;
-    let polarizers = a
-        .polarizer
-        .split(',')
-        .filter(|x| !x.trim().is_empty())
-        .map(|x| {
-            x.trim()
-                .parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| bad("--polarizer", x, "angles in degrees, comma-separated"))
-        })
-        .collect::<psh::Result<Vec<_>>>()?;
+    let (w, h) = (a.size.width, a.size.height);
+    let polarizers = &a.polarizer;
     let (scene, file_settings, name) = match &a.scene {
         Some(path) => {
             let lmax = a.l_high.unwrap_or(0).max(a.l_low.unwrap_or(0));
@@ -853,7 +876,7 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
         return psh::apps::render_job::ablation_job(
             &scene,
             settings,
-            &polarizers,
+            polarizers,
             &a.out,
             &TerminalProgress::new(),
         );
@@ -867,7 +890,7 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
         &scene,
         settings,
         planning,
-        &polarizers,
+        polarizers,
         &a.out,
         &TerminalProgress::new(),
     )?;
@@ -882,11 +905,19 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
     Ok(report)
 }
 
+/// An image size `WxH`.
+#[derive(Clone, Copy, Debug)]
+struct ImageSize {
+    width: usize,
+    height: usize,
+}
+
 /// `WxH` with positive sizes.
-fn parse_size(size: &str) -> psh::Result<(usize, usize)> {
+fn parse_size(size: &str) -> psh::Result<ImageSize> {
     size.split_once('x')
         .and_then(|(w, h)| Some((w.trim().parse().ok()?, h.trim().parse().ok()?)))
         .filter(|&(w, h): &(usize, usize)| w > 0 && h > 0)
+        .map(|(width, height)| ImageSize { width, height })
         .ok_or_else(|| Error::InvalidArgument {
             name: "--size",
             value: size.to_string(),
@@ -894,27 +925,44 @@ fn parse_size(size: &str) -> psh::Result<(usize, usize)> {
         })
 }
 
-fn bench_error(a: &BenchErrorArgs) -> psh::Result<serde_json::Value> {
-    let (w, h) = parse_size(&a.size)?;
-    let spp = a
-        .spp
-        .split(',')
-        .map(|x| {
-            x.trim()
-                .parse::<usize>()
-                .ok()
-                .filter(|&n| n > 0)
-                .ok_or_else(|| Error::InvalidArgument {
-                    name: "--spp",
-                    value: x.to_string(),
-                    reason: "positive sample counts, comma-separated".into(),
-                })
+/// A finite angle in degrees.
+fn parse_angle(x: &str) -> psh::Result<f64> {
+    x.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .ok_or_else(|| Error::InvalidArgument {
+            name: "--polarizer",
+            value: x.to_string(),
+            reason: "angles in degrees, comma-separated".into(),
         })
-        .collect::<psh::Result<Vec<_>>>()?;
-    let mut scene = if a.scene == "builtin" {
-        psh::pprt::builtin::builtin_scene(a.l_max, w, h)?
-    } else {
-        psh::io::scene_file::load_scene(&a.scene, a.l_max)?.0
+}
+
+/// A positive sample count.
+fn parse_spp(x: &str) -> psh::Result<usize> {
+    x.trim()
+        .parse::<usize>()
+        .ok()
+        .filter(|&n| n > 0)
+        .ok_or_else(|| Error::InvalidArgument {
+            name: "--spp",
+            value: x.to_string(),
+            reason: "positive sample counts, comma-separated".into(),
+        })
+}
+
+fn bench_error(a: &BenchErrorArgs) -> psh::Result<serde_json::Value> {
+    let (w, h) = (a.size.width, a.size.height);
+    let spp = a.spp.clone();
+    let (mut scene, name) = match &a.scene {
+        Some(path) => (
+            psh::io::scene_file::load_scene(path, a.lmax)?.0,
+            path.display().to_string(),
+        ),
+        None => (
+            psh::pprt::builtin::builtin_scene(a.lmax, w, h)?,
+            "the built-in scene".to_string(),
+        ),
     };
     let cam = scene.camera().clone();
     scene.set_camera(psh::pprt::scene::Camera {
@@ -925,14 +973,14 @@ fn bench_error(a: &BenchErrorArgs) -> psh::Result<serde_json::Value> {
     eprintln!(
         "bench-error on {} ({} triangles, {w} x {h}): ground truth at {} spp, then PPRT l = 2..{} \
          and the reference at {spp:?} spp, into {}",
-        a.scene,
+        name,
         scene.triangle_count(),
         a.ground_truth_spp,
-        a.l_max,
+        a.lmax,
         a.out.display()
     );
     let options = psh::apps::bench_error::BenchErrorOptions {
-        l_max: a.l_max,
+        l_max: a.lmax,
         rays: a.rays,
         spp,
         ground_truth_spp: a.ground_truth_spp,
@@ -940,23 +988,26 @@ fn bench_error(a: &BenchErrorArgs) -> psh::Result<serde_json::Value> {
     psh::apps::bench_error::bench_error(&scene, &options, &a.out)
 }
 
+/// An equirectangular size `H,W` (rows, columns).
+#[derive(Clone, Copy)]
+struct EquirectSize(usize, usize);
+
+/// `H,W` with `W = 2H > 0`.
+fn parse_equirect(size: &str) -> psh::Result<EquirectSize> {
+    let hw: Option<Vec<usize>> = size.split(',').map(|x| x.trim().parse().ok()).collect();
+    match hw.as_deref() {
+        Some(&[h, w]) if h > 0 && w == 2 * h => Ok(EquirectSize(h, w)),
+        _ => Err(Error::InvalidArgument {
+            name: "--equirect",
+            value: size.to_string(),
+            reason: "expected H,W with W = 2H (rows, columns)".into(),
+        }),
+    }
+}
+
 fn reconstruct(a: &ReconstructArgs) -> psh::Result<serde_json::Value> {
-    let layout = match (&a.equirect, a.cube) {
-        (Some(size), _) => {
-            let bad = || Error::InvalidArgument {
-                name: "--equirect",
-                value: size.clone(),
-                reason: "expected H,W with W = 2H (rows, columns)".into(),
-            };
-            let hw: Vec<usize> = size
-                .split(',')
-                .map(|x| x.trim().parse().map_err(|_| bad()))
-                .collect::<psh::Result<_>>()?;
-            match hw[..] {
-                [h, w] if h > 0 && w == 2 * h => MapLayout::from_image_size(h, w)?,
-                _ => return Err(bad()),
-            }
-        }
+    let layout = match (a.equirect, a.cube) {
+        (Some(EquirectSize(h, w)), _) => MapLayout::from_image_size(h, w)?,
         (None, Some(e)) => MapLayout::CubeCross(psh::geometry::image_grid::CubeCross::new(e)?),
         (None, None) => unreachable!("clap requires --equirect or --cube"),
     };
@@ -969,7 +1020,7 @@ fn reconstruct(a: &ReconstructArgs) -> psh::Result<serde_json::Value> {
 }
 
 fn eval_wigner(a: &WignerArgs) -> psh::Result<serde_json::Value> {
-    let v = parse_rotvec(&a.rotvec)?;
+    let v = a.rotvec;
     if a.lmax > MAX_WIGNER_EVAL_DEGREE.min(MAX_DEGREE) {
         return Err(Error::DegreeOutOfRange {
             name: "lmax",
@@ -1090,7 +1141,7 @@ fn check_output_size(name: &'static str, count: usize) -> psh::Result<()> {
 }
 
 fn eval_wigner_block(a: &WignerBlockArgs) -> psh::Result<serde_json::Value> {
-    let v = parse_rotvec(&a.rotvec)?;
+    let v = a.rotvec;
     if a.l > MAX_WIGNER_BLOCK_DEGREE {
         return Err(Error::DegreeOutOfRange {
             name: "l",
@@ -1108,17 +1159,17 @@ fn eval_wigner_block(a: &WignerBlockArgs) -> psh::Result<serde_json::Value> {
     })?;
     let shape = match a.kind {
         Kind::Complex => {
-            write_npy(&a.out, &[n, n, 2], pairs_flat(&block))?;
+            write_npy(&a.output, &[n, n, 2], pairs_flat(&block))?;
             vec![n, n, 2]
         }
         Kind::Real => {
             let mut real = Vec::new();
             real_block(a.l, &block, &mut real);
-            write_npy(&a.out, &[n, n], real)?;
+            write_npy(&a.output, &[n, n], real)?;
             vec![n, n]
         }
     };
-    Ok(json!({"l": a.l, "kind": a.kind.name(), "rotvec": v, "out": a.out, "shape": shape}))
+    Ok(json!({"l": a.l, "kind": a.kind.name(), "rotvec": v, "output": a.output, "shape": shape}))
 }
 
 fn eval_swsh_points(a: &SwshPointsArgs) -> psh::Result<serde_json::Value> {
@@ -1137,8 +1188,8 @@ fn eval_swsh_points(a: &SwshPointsArgs) -> psh::Result<serde_json::Value> {
         out.extend(psh::swsh::swsh(a.spin, a.lmax, p[0], p[1])?);
     }
     let shape = [count as u64, n as u64, 2];
-    write_npy(&a.out, &shape, pairs_flat(&out))?;
-    Ok(json!({"spin": a.spin, "lmax": a.lmax, "points": count, "out": a.out, "shape": shape}))
+    write_npy(&a.output, &shape, pairs_flat(&out))?;
+    Ok(json!({"spin": a.spin, "lmax": a.lmax, "points": count, "output": a.output, "shape": shape}))
 }
 
 fn eval_sh_derivatives(a: &ShDerivativesArgs) -> psh::Result<serde_json::Value> {
@@ -1160,9 +1211,9 @@ fn eval_sh_derivatives(a: &ShDerivativesArgs) -> psh::Result<serde_json::Value> 
             .chain(hessians[i])
     });
     let shape = [count as u64, n as u64, 10];
-    write_npy(&a.out, &shape, rows)?;
+    write_npy(&a.output, &shape, rows)?;
     Ok(json!({
-        "lmax": a.lmax, "points": count, "out": a.out, "shape": shape,
+        "lmax": a.lmax, "points": count, "output": a.output, "shape": shape,
         "hessian_entries": ["xx", "xy", "xz", "yy", "yz", "zz"],
     }))
 }
@@ -1206,33 +1257,33 @@ fn eval_sht(a: &ShtArgs) -> psh::Result<serde_json::Value> {
             let c = read_npy_shaped(&a.input, &[n])?;
             let mut out = vec![0.0; grid.len()];
             t.synthesis_real(&c, &mut out)?;
-            write_npy(&a.out, &[nt, np], out)?;
+            write_npy(&a.output, &[nt, np], out)?;
             vec![nt, np]
         }
         (Kind::Real, TransformOp::Analysis) => {
             let v = read_npy_shaped(&a.input, &[nt, np])?;
             let mut out = vec![0.0; n as usize];
             t.analysis_real(&v, &mut out)?;
-            write_npy(&a.out, &[n], out)?;
+            write_npy(&a.output, &[n], out)?;
             vec![n]
         }
         (Kind::Complex, TransformOp::Synthesis) => {
             let c = complex_of_pairs(&read_npy_shaped(&a.input, &[n, 2])?);
             let mut out = vec![Complex64::default(); grid.len()];
             t.synthesis_complex(&c, &mut out)?;
-            write_npy(&a.out, &[nt, np, 2], pairs_flat(&out))?;
+            write_npy(&a.output, &[nt, np, 2], pairs_flat(&out))?;
             vec![nt, np, 2]
         }
         (Kind::Complex, TransformOp::Analysis) => {
             let v = complex_of_pairs(&read_npy_shaped(&a.input, &[nt, np, 2])?);
             let mut out = vec![Complex64::default(); n as usize];
             t.analysis_complex(&v, &mut out)?;
-            write_npy(&a.out, &[n, 2], pairs_flat(&out))?;
+            write_npy(&a.output, &[n, 2], pairs_flat(&out))?;
             vec![n, 2]
         }
     };
     Ok(json!({
-        "kind": a.kind.name(), "lmax": a.lmax, "out": a.out, "shape": shape,
+        "kind": a.kind.name(), "lmax": a.lmax, "output": a.output, "shape": shape,
         "grid": grid_json(grid),
     }))
 }
@@ -1248,19 +1299,19 @@ fn eval_spin_sht(a: &SpinShtArgs) -> psh::Result<serde_json::Value> {
             let c = complex_of_pairs(&read_npy_shaped(&a.input, &[n, 2])?);
             let mut out = vec![Complex64::default(); grid.len()];
             t.synthesis(&c, &mut out)?;
-            write_npy(&a.out, &[nt, np, 2], pairs_flat(&out))?;
+            write_npy(&a.output, &[nt, np, 2], pairs_flat(&out))?;
             vec![nt, np, 2]
         }
         TransformOp::Analysis => {
             let v = complex_of_pairs(&read_npy_shaped(&a.input, &[nt, np, 2])?);
             let mut out = vec![Complex64::default(); n as usize];
             t.analysis(&v, &mut out)?;
-            write_npy(&a.out, &[n, 2], pairs_flat(&out))?;
+            write_npy(&a.output, &[n, 2], pairs_flat(&out))?;
             vec![n, 2]
         }
     };
     Ok(json!({
-        "spin": a.spin, "lmax": a.lmax, "out": a.out, "shape": shape, "grid": grid_json(grid),
+        "spin": a.spin, "lmax": a.lmax, "output": a.output, "shape": shape, "grid": grid_json(grid),
     }))
 }
 
