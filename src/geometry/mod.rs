@@ -10,4 +10,7 @@ pub use direction::{
     check_direction, check_theta, direction, direction_angles, fibonacci_directions,
     fibonacci_point, GOLDEN_ANGLE, UNIT_TOLERANCE,
 };
+pub use frame::{CubeMapFrameField, Frame, FrameField, PerspectiveFrameField, ThetaPhiFrameField};
+pub use image_grid::{CubeCross, CubeFace, Equirect, PixelGrid};
+pub use rotated::Rotated;
 pub use rotation::{euler_zyz, rotation_from_rotvec};

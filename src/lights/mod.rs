@@ -9,3 +9,8 @@ pub mod grid;
 pub mod polygon;
 pub mod source;
 pub mod spherical;
+
+pub use grid::{Interpolation, LightGrid, Metric, Refinement};
+pub use polygon::{PolygonalLight, PolygonalLights};
+pub use source::{LightField, LightSource, Order};
+pub use spherical::{SphericalLight, SphericalLights};

@@ -44,16 +44,16 @@ pub(crate) const SMALL: f64 = f64::from_bits(((1023 - SCALE_BITS) as u64) << 52)
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Polar {
     /// `cos theta'` with `theta' = min(theta, pi - theta)`.
-    pub cos: f64,
+    cos: f64,
     /// `sin theta'`.
-    pub sin: f64,
+    sin: f64,
     /// `1 - cos theta'`.
-    pub vers: f64,
+    vers: f64,
     /// `theta > pi/2`: values take the factor `(-1)^{l+m}`.
-    pub south: bool,
+    south: bool,
     /// Low parts of `sin` and `vers` (double-double), zero unless built by
     /// [`Polar::from_theta_accurate`].
-    pub lo: [f64; 2],
+    lo: [f64; 2],
 }
 
 impl Polar {

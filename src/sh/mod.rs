@@ -22,7 +22,14 @@ pub mod zonal;
 
 pub use gaunt::{gaunt, gaunt_product, real_gaunt};
 pub use gaunt_table::{GauntBasis, GauntEntry, GauntTable, MAX_TABLE_DEGREE};
+pub use grid::{GaussLegendre, SphereGrid};
+pub use harmonics::{real_from_complex, sh_complex, sh_real, ShEvaluator};
+pub use legendre::{legendre_all, legendre_polynomials, zonal_legendre, Legendre};
+pub use solid::{sh_derivatives, SolidHarmonics};
+pub use transform::ShTransform;
+pub use wigner::{RealWignerD, WignerD};
 pub use wigner3j::{wigner_3j, wigner_3j_row, wigner_3j_row_into, Wigner3jRow, MAX_GAUNT_DEGREE};
+pub use zonal::{funk_hecke, rotated_zonal_complex, rotated_zonal_real, zonal_coefficients};
 
 use crate::error::{Error, Result};
 
