@@ -79,7 +79,7 @@ pub enum Error {
     },
 }
 
-/// `Result` with [`Error`].
+/// `Result` with [`enum@Error`].
 pub type Result<T> = std::result::Result<T, Error>;
 
 /// Checks that `value` is finite, naming it in the error otherwise.

@@ -8,7 +8,7 @@
 //! the light's direction of travel. In psh's frames they read `(s0, s1, -s2, -s3)`
 //! (PSH (14) with the reversed axes, `proofs/travel-convention.md` step 1); reading and
 //! writing apply that map. Coefficient files follow polarsh's travel-direction
-//! convention ([`crate::polarized::PshVector::travel_convention`]).
+//! convention ([`crate::polarized::FieldArgument::Travel`]).
 
 pub mod exr;
 pub mod kernel_csv;

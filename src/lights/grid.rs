@@ -446,7 +446,7 @@ fn serendipity_basis() -> &'static (Vec<[i32; 3]>, DMatrix<f64>) {
 
 /// Weights of the 8 corners (bits x, y, z) of a voxel with edge lengths `cell` at local
 /// coordinates `t` in `[0, 1]^3`, for their values and gradients: the cubic Hermite
-/// serendipity interpolant (the 32-dimensional space of [`serendipity_exponents`],
+/// serendipity interpolant (the 32-dimensional space of `serendipity_exponents`,
 /// fixed by the corner values and gradients). It reproduces every cubic polynomial, so
 /// the interpolation error of a smooth field is `O(h^4)`; along each edge it is the 1D
 /// cubic Hermite interpolant (`proofs/polygon-lights.md`, Sec. 5).

@@ -91,7 +91,7 @@ pub struct KernelCoefficients {
 }
 
 /// `G_l` of `kernel` for `l <= lmax` by composite Gauss-Legendre quadrature in `theta`
-/// (PSH (68a)-(68e); module docs). Panels of [`PANEL_WIDTH`] degrees each, split further at
+/// (PSH (68a)-(68e); module docs). Panels of `PANEL_WIDTH` degrees each, split further at
 /// a table's samples; the error estimate is the largest difference from a rule with more
 /// nodes. Errors: a non-finite kernel value, naming the angle; a table with fewer samples
 /// than `lmax + 1` (too coarse for the band limit).

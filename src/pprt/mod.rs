@@ -12,7 +12,7 @@
 //! | [`plan`] | what a scene needs: Stokes components, visibility, storage, high orders | PSH (41), (52)-(56) |
 //! | [`transfer`] | visibility, PSH (54)-(56), (35)-(37), (41) per vertex | PSH Sec. 7 |
 //! | [`render`] | runtime frame, camera frames, polarizer images | PSH (14), (30) |
-//! | [`reference`] | quasi-Monte Carlo reference renderer in explicit frames | PSH (39) |
+//! | [`mod@reference`] | quasi-Monte Carlo reference renderer in explicit frames | PSH (39) |
 //! | [`builtin`] | the built-in scenes | |
 
 pub mod builtin;

@@ -17,7 +17,7 @@
 //! - **Storage.** A material whose matrices are isotropic (PSH (52)-(53), defect at most
 //!   `tolerance`) keeps only the entries with `|m_o| = |m_i|` ([`Sparsity::Isotropic`]).
 //!
-//! [`Plan::full`] keeps everything (`psh render --no-plan`); both prepare the restricted
+//! [`Planning::Full`] keeps everything (`psh render --no-plan`); both prepare the restricted
 //! sparse material operators and the high-order fields once.
 
 use super::reflected::reflected_pbrdf;

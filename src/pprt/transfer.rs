@@ -89,7 +89,7 @@ pub fn ray_visibility(
 }
 
 /// Transfer of every vertex of every object, `[object][vertex]`, with everything computed
-/// ([`Plan::full`]). Errors: as [`TransferSettings::check`].
+/// ([`Planning::Full`]). Errors: as [`TransferSettings::check`].
 pub fn precompute(scene: &Scene, settings: TransferSettings) -> Result<Vec<Vec<VertexTransfer>>> {
     precompute_planned(scene, &Plan::new(scene, settings, Planning::Full)?, &Silent)
 }

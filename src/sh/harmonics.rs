@@ -59,7 +59,7 @@ const CIS_RESTART: usize = 32;
 
 /// `(cos(m phi), sin(m phi))` for a walk over orders `m`: one multiplication by
 /// `e^{i phi}` when `m` follows the previous order, the cached value when it repeats it,
-/// and an exact [`cis_m`] every [`CIS_RESTART`] orders or after any other jump.
+/// and an exact [`cis_m`] every `CIS_RESTART` orders or after any other jump.
 #[derive(Clone, Copy, Debug)]
 pub struct CisWalk {
     phi: f64,

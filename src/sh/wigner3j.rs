@@ -439,7 +439,6 @@ pub(super) fn wigner_3j_checked(
 pub(super) mod tests {
     use super::*;
     use crate::random::pseudo_random;
-    use crate::verify::oracle::gaunt_entries;
 
     /// Compensated (Neumaier) sum accumulator.
     #[derive(Default)]
@@ -471,8 +470,11 @@ pub(super) mod tests {
 
     /// Rows and single symbols against the exact values (Racah's formula in rational
     /// arithmetic) of the committed fixture, through [`crate::verify::oracle`].
+    /// Against the committed fixture (its reader is `psh verify`'s, feature `verify`).
+    #[cfg(feature = "verify")]
     #[test]
     fn matches_the_exact_fixture() {
+        use crate::verify::oracle::gaunt_entries;
         let mut max_err: f64 = 0.0;
         let entries = gaunt_entries("wigner3j").unwrap();
         for &(l, m, exact) in &entries {

@@ -1,5 +1,5 @@
 //! [`SpinEvaluator`]: the spin-`s` harmonics `sY_lm` at any direction from the recursion of
-//! [`super::recursion`], `O(lmax^2)` per direction.
+//! `swsh::recursion`, `O(lmax^2)` per direction.
 
 use super::recursion::{column_index, columns, Column, HalfAngle, StartWalk};
 use crate::error::{check_len, Error, Result};

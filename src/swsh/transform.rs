@@ -1,7 +1,7 @@
 //! Spin-s transforms on the exact grid: synthesis `f = sum a_lm sY_lm` and analysis
 //! `a_lm = <sY_lm, f>` (PSH (32) for one spin component), with
 //! `sY_lm = Lambda_lm(theta) e^{i m phi}`, `Lambda_lm = (-1)^s sqrt((2l+1)/(4 pi)) d^l_{m,-s}`
-//! from the recursion of [`super::recursion`].
+//! from the recursion of `swsh::recursion`.
 //!
 //! The grid is the one of [`crate::sh::grid`]: `d^l_{m,-s} d^l'_{m,-s}` is a polynomial of
 //! degree `l + l'` in `cos theta`, so `lmax + 1` rings integrate the analysis exactly. Its

@@ -106,7 +106,7 @@ fn wrong_plan(what: &str, plan: &Plan) -> Error {
     }
 }
 
-/// [`vertex_difference`] of the unpolarized built-in scene, planned at `1e-3` and full,
+/// `vertex_difference` of the unpolarized built-in scene, planned at `1e-3` and full,
 /// with `rays` visibility directions.
 pub fn unpolarized_vs_full(rays: usize) -> Result<f64> {
     let scene = crate::pprt::builtin::builtin_unpolarized_scene(9, 16, 12)?;
@@ -144,7 +144,7 @@ pub fn convex_scene(lmax: usize) -> Result<Scene> {
     )
 }
 
-/// [`vertex_difference`] of [`convex_scene`]: the plan's tangent-plane shadowing against
+/// `vertex_difference` of [`convex_scene`]: the plan's tangent-plane shadowing against
 /// `rays` ray-cast directions.
 pub fn tangent_plane_vs_rays(rays: usize) -> Result<f64> {
     let scene = convex_scene(6)?;

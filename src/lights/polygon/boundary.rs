@@ -96,7 +96,7 @@ impl Arc {
     /// `U_k = (c D_k - W_{k-1} - [g' P_k(h)]_0^T) / (k + 1)`,
     /// `W_{k+1} = W_{k-1} + (2k + 1) U_k` (`proofs/polygon-lights.md`).
     ///
-    /// Short arcs (`T (lmax + 1) <= SHORT_ARC`) take [`Self::integrals_by_quadrature`]
+    /// Short arcs (`T (lmax + 1) <= SHORT_ARC`) take `integrals_by_quadrature`
     /// instead: the recurrence's end-point differences cancel there, to `eps / T`.
     pub fn integrals(&self, v: [f64; 3], d: &mut [f64], u: Option<&mut [f64]>) {
         if self.len * d.len() as f64 <= SHORT_ARC {

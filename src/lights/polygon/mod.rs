@@ -8,8 +8,7 @@
 //! - [`clip`]: clipping against the horizon of a shading point;
 //! - [`cubature`]: SHG (4) as an area integral by Gauss-Legendre rules on the planar
 //!   light, for small lights (where the boundary sums cancel) and for the reference;
-//! - [`reference`]: adaptive quadrature over the planar light, the independent oracle;
-//! - [`scene`]: a procedural many-light scene for the demo.
+//! - [`mod@reference`]: adaptive quadrature over the planar light, the independent oracle;
 //!
 //! A light is a planar, convex polygon (vertices in order, at least 3) of uniform
 //! radiance `E`, emitting on both sides. Seen from `x` it covers the spherical polygon
