@@ -99,7 +99,7 @@ fn figure16(out: &Path) -> psh::Result<f64> {
     for (name, v) in [("input", &map), ("frequency", &freq), ("angular", &angular)] {
         let files = write_map_pngs(
             &StokesMap::reconstruct(v, layout.clone())?,
-            &out.join(format!("fig16_{name}")).to_string_lossy(),
+            out.join(format!("fig16_{name}")),
         )?;
         println!("  {name}: {} pictures (fig16_{name}_*.png)", files.len());
     }

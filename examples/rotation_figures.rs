@@ -126,7 +126,7 @@ fn figure11(out: &Path, r: &nalgebra::Rotation3<f64>) -> psh::Result<()> {
     println!("  PSH rotation vs angular rotation:   max |difference| / max |s| = {err_psh:.2e}");
     println!("  naive rotation vs angular rotation: max |difference| / max |s| = {err_naive:.2e}");
     for (name, map) in [("angular", &angular), ("psh", &freq), ("naive", &naive)] {
-        write_map_pngs(map, &out.join(format!("fig11_{name}")).to_string_lossy())?;
+        write_map_pngs(map, out.join(format!("fig11_{name}")))?;
     }
     for (name, map) in [("psh", &freq), ("naive", &naive)] {
         for p in [1, 2] {

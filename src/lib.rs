@@ -43,7 +43,7 @@
 //! use psh::polarized::{FieldArgument, IsotropicMatrix, PshRotation, SpinBlock22};
 //! # let dir = std::env::temp_dir().join(format!("psh-quickstart-{}", std::process::id()));
 //! # std::fs::create_dir_all(&dir).unwrap();
-//! # let pattern = dir.join("sky_s%d.exr").to_string_lossy().into_owned();
+//! # let pattern = dir.join("sky_s%d.exr");
 //! # let sky = psh::pprt::sky::RayleighSky::new(0.5, 1.0)?.project(8)?;
 //! # exr::write_stokes_map(&StokesMap::reconstruct(&sky, MapLayout::from_image_size(64, 128)?)?, &pattern)?;
 //! # let gold = Conductor::from_material(0.3, Material::Gold, Channel::Red)?;

@@ -176,9 +176,9 @@ material = "gold"
         &psh::progress::Silent,
     )
     .unwrap();
-    assert_eq!(report["counts"]["primary_rays"], 1200);
+    assert_eq!(report.counts.primary_rays, 1200);
     // The plan says why it keeps or drops each part.
-    assert!(report["plan"]["reasons"].as_array().unwrap().len() >= 2);
+    assert!(report.plan.reasons.len() >= 2);
     for f in [
         "render_s0.png",
         "render_dop.png",
@@ -370,18 +370,17 @@ fn ablation_writes_three_variants_side_by_side() {
         visibility: psh::pprt::Visibility::Rays,
     };
     let report = ablation_job(&scene, settings, &[45.0], &dir, &psh::progress::Silent).unwrap();
-    let names: Vec<_> = report["variants"]
-        .as_array()
-        .unwrap()
+    let names: Vec<_> = report
+        .variants
         .iter()
         .map(|v| {
-            assert!(v["times_s"]["frame"].as_f64().unwrap() > 0.0);
-            v["variant"].as_str().unwrap().to_string()
+            assert!(v.times_s.frame > 0.0);
+            v.variant.clone()
         })
         .collect();
     assert_eq!(names, ["low_only", "low_shadows", "full"]);
-    assert_eq!(report["variants"][0]["settings"]["shadows"], false);
-    assert_eq!(report["variants"][2]["settings"]["l_high"], 5);
+    assert!(!report.variants[0].settings.shadows);
+    assert_eq!(report.variants[2].settings.l_high, 5);
     for f in [
         "ablation_s0.png",
         "ablation_dop.png",

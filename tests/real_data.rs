@@ -62,7 +62,7 @@ impl FrameField for TravelFrames {
 /// channels as stored in the files (Mitsuba's frames `[x, -y, -w]`).
 fn read_map(dir: &std::path::Path, name: &str) -> (StokesMap, Vec<Vec<[f64; 4]>>) {
     let pattern = dir.join(format!("{name}_s%d.exr"));
-    let map = read_stokes_map(pattern.to_str().unwrap()).unwrap();
+    let map = read_stokes_map(&pattern).unwrap();
     let stored = map
         .channels()
         .iter()

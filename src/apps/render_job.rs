@@ -12,7 +12,7 @@ use crate::pprt::scene::Scene;
 use crate::pprt::settings::{Planning, TransferSettings, Visibility};
 use crate::pprt::transfer::precompute_planned;
 use crate::progress::Progress;
-use serde_json::json;
+use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -29,7 +29,7 @@ pub fn render_job(
     polarizers: &[f64],
     out: &Path,
     progress: &dyn Progress,
-) -> Result<serde_json::Value> {
+) -> Result<RenderReport> {
     Ok(render_to(scene, settings, planning, polarizers, out, progress)?.0)
 }
 
@@ -46,7 +46,7 @@ pub fn ablation_job(
     polarizers: &[f64],
     out: &Path,
     progress: &dyn Progress,
-) -> Result<serde_json::Value> {
+) -> Result<AblationReport> {
     if !settings.shadows() || settings.l_high <= settings.l_low {
         return Err(Error::InvalidArgument {
             name: "ablation settings",
@@ -89,9 +89,11 @@ pub fn ablation_job(
             &out.join(name),
             progress,
         )?;
-        rows.push(
-            json!({"variant": name, "settings": report["settings"], "times_s": report["times_s"]}),
-        );
+        rows.push(AblationVariant {
+            variant: name.to_string(),
+            settings: report.settings,
+            times_s: report.times_s,
+        });
         panels.push(image);
     }
     let (w, h) = (panels[0].width, panels[0].height);
@@ -110,9 +112,12 @@ pub fn ablation_job(
         &vec![true; strip[0].len()],
         w * panels.len(),
         h,
-        &out.join("ablation").to_string_lossy(),
+        out.join("ablation"),
     )?;
-    let report = json!({"variants": rows, "pictures": pictures});
+    let report = AblationReport {
+        variants: rows,
+        pictures,
+    };
     write_json(&out.join("ablation.json"), &report)?;
     Ok(report)
 }
@@ -125,7 +130,7 @@ fn render_to(
     polarizers: &[f64],
     out: &Path,
     progress: &dyn Progress,
-) -> Result<(serde_json::Value, StokesImage)> {
+) -> Result<(RenderReport, StokesImage)> {
     std::fs::create_dir_all(out).map_err(|e| Error::Io {
         path: out.to_path_buf(),
         source: e,
@@ -160,7 +165,7 @@ fn render_to(
         &vec![true; image.width * image.height],
         image.width,
         image.height,
-        &prefix.to_string_lossy(),
+        &prefix,
     )?;
     for &deg in polarizers {
         written.push(write_polarizer_png(&image, deg, out)?);
@@ -170,47 +175,58 @@ fn render_to(
         &image.channels,
         image.width,
         image.height,
-        &exr_pattern.to_string_lossy(),
+        &exr_pattern,
     )?);
     let t_out = t3.elapsed().as_secs_f64();
     let cam = scene.camera();
-    let report = json!({
-        "settings": {
-            "l_low": settings.l_low, "l_high": settings.l_high, "rays_per_vertex": settings.rays,
-            "shadows": settings.shadows(), "environment_lmax": scene.environment().lmax(),
-            "image": [cam.width, cam.height], "polarizers_deg": polarizers,
+    let report = RenderReport {
+        settings: ReportSettings {
+            l_low: settings.l_low,
+            l_high: settings.l_high,
+            rays_per_vertex: settings.rays,
+            shadows: settings.shadows(),
+            environment_lmax: scene.environment().lmax(),
+            image: [cam.width, cam.height],
+            polarizers_deg: polarizers.to_vec(),
         },
-        "counts": {
-            "vertices": vertices, "triangles": scene.triangle_count(),
-            "visibility_directions": if plan.visibility == Visibility::Rays {
+        counts: Counts {
+            vertices,
+            triangles: scene.triangle_count(),
+            visibility_directions: if plan.visibility == Visibility::Rays {
                 vertices * settings.rays
             } else {
                 0
             },
-            "primary_rays": cam.width * cam.height,
-            "transfer_coefficients_per_vertex":
-                3 * plan.codomain.components().len() * crate::sh::num_coeffs(settings.l_low),
-            "degenerate_triangles_dropped": scene.objects().iter().map(|o| o.mesh.dropped()).sum::<usize>(),
+            primary_rays: cam.width * cam.height,
+            transfer_coefficients_per_vertex: 3
+                * plan.codomain.components().len()
+                * crate::sh::num_coeffs(settings.l_low),
+            degenerate_triangles_dropped: scene.objects().iter().map(|o| o.mesh.dropped()).sum(),
         },
-        "plan": plan_json(&plan),
-        "high_order_projection_residual_per_material": residuals,
-        "times_s": {
-            "plan": t_plan, "precompute": t_pre, "primary_visibility_and_background": t_hits, "frame": t_frame,
-            "pictures": t_out,
+        plan: PlanReport::new(&plan),
+        high_order_projection_residual_per_material: residuals,
+        times_s: Times {
+            plan: t_plan,
+            precompute: t_pre,
+            primary_visibility_and_background: t_hits,
+            frame: t_frame,
+            pictures: t_out,
         },
-        "pictures": written,
-    });
+        pictures: written,
+    };
     write_json(&out.join("report.json"), &report)?;
     Ok((report, image))
 }
 
-/// Writes `value` as pretty JSON to `path`.
-fn write_json(path: &Path, value: &serde_json::Value) -> Result<()> {
-    let text = serde_json::to_string_pretty(value).map_err(|e| Error::InvalidArgument {
-        name: "JSON report",
-        value: path.display().to_string(),
-        reason: e.to_string(),
-    })?;
+/// Writes `value` as pretty JSON to `path` (keys sorted).
+fn write_json(path: &Path, value: &impl Serialize) -> Result<()> {
+    let text = serde_json::to_value(value)
+        .and_then(|v| serde_json::to_string_pretty(&v))
+        .map_err(|e| Error::InvalidArgument {
+            name: "JSON report",
+            value: path.display().to_string(),
+            reason: e.to_string(),
+        })?;
     std::fs::write(path, text).map_err(|e| Error::Io {
         path: path.to_path_buf(),
         source: e,
@@ -235,20 +251,107 @@ fn write_polarizer_png(image: &StokesImage, deg: f64, out: &Path) -> Result<Path
     Ok(path)
 }
 
-/// The plan as JSON (for reports): its tolerance, Stokes components, visibility, per
-/// material the storage and the high orders, and the reasons.
-fn plan_json(plan: &Plan) -> serde_json::Value {
-    json!({
-        "tolerance": plan.planning.tolerance(),
-        "stokes": plan.codomain.components(),
-        "visibility": format!("{:?}", plan.visibility),
-        "materials": plan.materials.iter().map(|m| json!({
-            "storage": format!("{:?}", m.sparsity),
-            "stored_entries": m.operators.iter().map(SparsePshMatrix::stored).sum::<usize>(),
-            "isotropy_defect": m.isotropy_defect,
-            "l_high": m.l_high,
-            "dropped_tail": m.dropped_tail,
-        })).collect::<Vec<_>>(),
-        "reasons": plan.reasons.iter().map(ToString::to_string).collect::<Vec<_>>(),
-    })
+/// What a render did (`report.json`): its settings, counts, plan, times and files.
+#[derive(Clone, Debug, Serialize)]
+pub struct RenderReport {
+    pub settings: ReportSettings,
+    pub counts: Counts,
+    pub plan: PlanReport,
+    /// Per material, the relative residual of projecting its reflected pBRDF onto a
+    /// convolution (the high orders), `None` without high orders.
+    pub high_order_projection_residual_per_material: Vec<Option<f64>>,
+    pub times_s: Times,
+    pub pictures: Vec<PathBuf>,
+}
+
+/// The settings of a render as reported.
+#[derive(Clone, Debug, Serialize)]
+pub struct ReportSettings {
+    pub l_low: usize,
+    pub l_high: usize,
+    pub rays_per_vertex: usize,
+    pub shadows: bool,
+    pub environment_lmax: usize,
+    /// Width and height in pixels.
+    pub image: [usize; 2],
+    pub polarizers_deg: Vec<f64>,
+}
+
+/// The sizes of a render's work.
+#[derive(Clone, Debug, Serialize)]
+pub struct Counts {
+    pub vertices: usize,
+    pub triangles: usize,
+    pub visibility_directions: usize,
+    pub primary_rays: usize,
+    pub transfer_coefficients_per_vertex: usize,
+    pub degenerate_triangles_dropped: usize,
+}
+
+/// Seconds per stage.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Times {
+    pub plan: f64,
+    pub precompute: f64,
+    pub primary_visibility_and_background: f64,
+    pub frame: f64,
+    pub pictures: f64,
+}
+
+/// A plan as reported: its tolerance, Stokes components, visibility, per material the
+/// storage and the high orders, and the reasons ([`crate::pprt::Reason`]'s lines).
+#[derive(Clone, Debug, Serialize)]
+pub struct PlanReport {
+    pub tolerance: Option<f64>,
+    pub stokes: Vec<usize>,
+    pub visibility: String,
+    pub materials: Vec<MaterialReport>,
+    pub reasons: Vec<String>,
+}
+
+/// One material of a [`PlanReport`].
+#[derive(Clone, Debug, Serialize)]
+pub struct MaterialReport {
+    pub storage: String,
+    pub stored_entries: usize,
+    pub isotropy_defect: f64,
+    pub l_high: usize,
+    pub dropped_tail: f64,
+}
+
+impl PlanReport {
+    fn new(plan: &Plan) -> Self {
+        Self {
+            tolerance: plan.planning.tolerance(),
+            stokes: plan.codomain.components().to_vec(),
+            visibility: format!("{:?}", plan.visibility),
+            materials: plan
+                .materials
+                .iter()
+                .map(|m| MaterialReport {
+                    storage: format!("{:?}", m.sparsity),
+                    stored_entries: m.operators.iter().map(SparsePshMatrix::stored).sum(),
+                    isotropy_defect: m.isotropy_defect,
+                    l_high: m.l_high,
+                    dropped_tail: m.dropped_tail,
+                })
+                .collect(),
+            reasons: plan.reasons.iter().map(ToString::to_string).collect(),
+        }
+    }
+}
+
+/// The ablation's report (`ablation.json`).
+#[derive(Clone, Debug, Serialize)]
+pub struct AblationReport {
+    pub variants: Vec<AblationVariant>,
+    pub pictures: Vec<PathBuf>,
+}
+
+/// One variant of the ablation.
+#[derive(Clone, Debug, Serialize)]
+pub struct AblationVariant {
+    pub variant: String,
+    pub settings: ReportSettings,
+    pub times_s: Times,
 }

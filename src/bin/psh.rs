@@ -873,13 +873,14 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
         a.out.display()
     );
     if a.ablation {
-        return psh::apps::render_job::ablation_job(
+        let report = psh::apps::render_job::ablation_job(
             &scene,
             settings,
             polarizers,
             &a.out,
             &TerminalProgress::new(),
-        );
+        )?;
+        return to_json(&report);
     }
     let planning = if a.no_plan {
         psh::pprt::Planning::Full
@@ -895,14 +896,21 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
         &TerminalProgress::new(),
     )?;
     if a.plan {
-        if let Some(reasons) = report["plan"]["reasons"].as_array() {
-            println!("plan (tolerance {:e}):", a.tolerance);
-            for r in reasons.iter().filter_map(|r| r.as_str()) {
-                println!("  - {r}");
-            }
+        println!("plan (tolerance {:e}):", a.tolerance);
+        for r in &report.plan.reasons {
+            println!("  - {r}");
         }
     }
-    Ok(report)
+    to_json(&report)
+}
+
+/// A report as JSON.
+fn to_json(report: &impl serde::Serialize) -> psh::Result<serde_json::Value> {
+    serde_json::to_value(report).map_err(|e| Error::InvalidArgument {
+        name: "JSON report",
+        value: e.to_string(),
+        reason: "a report serializable as JSON".into(),
+    })
 }
 
 /// An image size `WxH`.

@@ -1,10 +1,10 @@
 //! Geometry: directions, frames and pixel grids on the sphere.
 
-pub mod direction;
+pub(crate) mod direction;
 pub mod frame;
 pub mod image_grid;
 pub mod rotated;
-pub mod rotation;
+pub(crate) mod rotation;
 
 pub use direction::{
     check_direction, check_theta, direction, direction_angles, fibonacci_directions,

@@ -59,7 +59,7 @@ fn read_component(path: &Path) -> Result<Component> {
 /// [`super::component_paths`]). Errors name the file and the reason: a missing component,
 /// an unreadable file, sizes or channels that differ between the files, a shape that is
 /// neither a cube cross nor equirectangular, a NaN or infinite texel.
-pub fn read_stokes_map(pattern: &str) -> Result<StokesMap> {
+pub fn read_stokes_map(pattern: impl AsRef<Path>) -> Result<StokesMap> {
     let paths = component_paths(pattern)?;
     let mut first: Option<((usize, usize), Vec<String>)> = None;
     let mut channels: Vec<Vec<[f64; 4]>> = Vec::new();
@@ -109,7 +109,7 @@ pub fn read_stokes_map(pattern: &str) -> Result<StokesMap> {
 
 /// Writes a map as four component files (`pattern` with `%d`, or one component's file
 /// name), 32-bit float, lossless; returns the paths written.
-pub fn write_stokes_map(map: &StokesMap, pattern: &str) -> Result<Vec<PathBuf>> {
+pub fn write_stokes_map(map: &StokesMap, pattern: impl AsRef<Path>) -> Result<Vec<PathBuf>> {
     let stored: Vec<Vec<[f64; 4]>> = map
         .channels()
         .iter()
@@ -130,7 +130,7 @@ pub fn write_stokes_image(
     stored: &[Vec<[f64; 4]>],
     w: usize,
     h: usize,
-    pattern: &str,
+    pattern: impl AsRef<Path>,
 ) -> Result<Vec<PathBuf>> {
     for c in stored {
         crate::error::check_len("Stokes image channel", w * h, c.len())?;

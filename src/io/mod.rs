@@ -30,12 +30,16 @@ pub(crate) fn reverse_frame(s: [f64; 4]) -> [f64; 4] {
 /// The files of the four Stokes components of a map: `pattern` with `%d` replaced by
 /// 0..3 (`sponza_64_s%d.exr`), or, given one component's file (`sponza_64_s0.exr`), the
 /// four files that differ from it in the digit after the last `_s`.
-pub fn component_paths(pattern: &str) -> Result<[PathBuf; 4]> {
+pub fn component_paths(pattern: impl AsRef<Path>) -> Result<[PathBuf; 4]> {
+    let path = pattern.as_ref();
     let bad = |reason: &str| Error::InvalidArgument {
         name: "Stokes file pattern",
-        value: pattern.to_string(),
+        value: path.display().to_string(),
         reason: reason.into(),
     };
+    let pattern = path
+        .to_str()
+        .ok_or_else(|| bad("the pattern must be valid UTF-8"))?;
     let template = if pattern.contains("%d") {
         if pattern.matches("%d").count() != 1 {
             return Err(bad("exactly one %d (the Stokes component) is allowed"));

@@ -99,7 +99,7 @@ fn luminance(values: &[f64]) -> f64 {
 
 /// Writes `{prefix}_s0.png`, `_s1`, `_s2`, `_s3`, `_dop` and `_aop` for `map`; returns
 /// the paths.
-pub fn write_map_pngs(map: &StokesMap, prefix: &str) -> Result<Vec<PathBuf>> {
+pub fn write_map_pngs(map: &StokesMap, prefix: impl AsRef<Path>) -> Result<Vec<PathBuf>> {
     let layout = map.layout();
     let on: Vec<bool> = (0..layout.len())
         .map(|i| layout.solid_angle(i) > 0.0)
@@ -121,7 +121,7 @@ pub fn write_stokes_pngs(
     on: &[bool],
     w: usize,
     h: usize,
-    prefix: &str,
+    prefix: impl AsRef<Path>,
 ) -> Result<Vec<PathBuf>> {
     let n = w * h;
     for (what, len) in std::iter::once(("pixel mask", on.len()))
@@ -142,7 +142,9 @@ pub fn write_stokes_pngs(
     };
     let mut out = Vec::new();
     let mut save = |name: &str, pixel: &dyn Fn(usize) -> [u8; 3]| -> Result<()> {
-        let path = PathBuf::from(format!("{prefix}_{name}.png"));
+        let mut file = prefix.as_ref().as_os_str().to_owned();
+        file.push(format!("_{name}.png"));
+        let path = PathBuf::from(file);
         let rgb: Vec<[u8; 3]> = (0..n)
             .map(|i| if on[i] { pixel(i) } else { [0; 3] })
             .collect();
@@ -241,7 +243,7 @@ mod tests {
         let v = crate::testing::random_psh(3, Codomain::Full, 3, 5).unwrap();
         let map = StokesMap::reconstruct(&v, MapLayout::from_image_size(24, 32).unwrap()).unwrap();
         let prefix = dir.join("m");
-        let paths = write_map_pngs(&map, prefix.to_str().unwrap()).unwrap();
+        let paths = write_map_pngs(&map, &prefix).unwrap();
         assert_eq!(paths.len(), 6);
         for p in &paths {
             let dec = ::png::Decoder::new(std::fs::File::open(p).unwrap());

@@ -256,7 +256,7 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
             EnvironmentSource::Coefficients(turn(&v, *up)?)
         }
         EnvironmentSpec::Exr { path: p, up } => {
-            let map = crate::io::exr::read_stokes_map(&resolve(p)?.to_string_lossy())?;
+            let map = crate::io::exr::read_stokes_map(resolve(p)?)?;
             EnvironmentSource::Coefficients(turn(&map.project(Codomain::Full, source_lmax)?, *up)?)
         }
     };

@@ -9,9 +9,9 @@
 //! weighted sum of values of the pre-convolved signals `fhat_l = f (x) phi_l` at the
 //! directions `R z_l^m` (ISD (6)): no SH rotation.
 //!
-//! - [`directions`]: the axes `z_l^m` (Fibonacci, Halton; per band or shared, "lobe
+//! - [`DirectionSet`]: the axes `z_l^m` (Fibonacci, Halton; per band or shared, "lobe
 //!   sharing");
-//! - [`profiles`]: the mother functions (RZH `y_l^0`, and ISD Sec. 7.2's Legendre,
+//! - [`Profile`]: the mother functions (RZH `y_l^0`, and ISD Sec. 7.2's Legendre,
 //!   Gaussian, Phong and Gauss-Legendre profiles) and their ZH coefficients `beta_ll'`
 //!   (ISD (16));
 //! - [`decomposition`]: the transfer matrix `M` (ISD (17)), its conditioning, and the
@@ -26,9 +26,9 @@
 use crate::error::Result;
 
 pub mod decomposition;
-pub mod directions;
+pub(crate) mod directions;
 pub mod filter;
-pub mod profiles;
+pub(crate) mod profiles;
 
 pub use decomposition::{Isd, MAX_CONDITION};
 pub use directions::{DirectionSet, Pattern, Sharing};

@@ -8,7 +8,7 @@
 //! | [`sky`] | analytic Rayleigh sky with a sun | Chandrasekhar §17 |
 //! | [`reflected`] | high orders by convolution at the reflected direction | PSH Sec. 7 |
 //! | [`scene`] | materials, camera, BVH ray queries | |
-//! | [`settings`] | what a precomputation is asked to do, how much the plan may drop | |
+//! | [`TransferSettings`], [`Planning`] | what a precomputation is asked to do, how much the plan may drop | |
 //! | [`plan`] | what a scene needs: Stokes components, visibility, storage, high orders | PSH (41), (52)-(56) |
 //! | [`transfer`] | visibility, PSH (54)-(56), (35)-(37), (41) per vertex | PSH Sec. 7 |
 //! | [`render`] | runtime frame, camera frames, polarizer images | PSH (14), (30) |
@@ -22,7 +22,7 @@ pub mod reference;
 pub mod reflected;
 pub mod render;
 pub mod scene;
-pub mod settings;
+pub(crate) mod settings;
 pub mod sky;
 pub mod transfer;
 

@@ -8,8 +8,8 @@
 //! stored in flat order `l*l + l + m`.
 
 mod double_double;
-pub mod gaunt;
-pub mod gaunt_table;
+pub(crate) mod gaunt;
+pub(crate) mod gaunt_table;
 pub mod grid;
 pub mod harmonics;
 pub mod legendre;
@@ -17,7 +17,7 @@ pub mod pixel;
 pub mod solid;
 pub mod transform;
 pub mod wigner;
-pub mod wigner3j;
+pub(crate) mod wigner3j;
 pub mod zonal;
 
 pub use gaunt::{gaunt, gaunt_product, real_gaunt};

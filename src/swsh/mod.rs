@@ -17,9 +17,9 @@
 //! `l` of [`SpinEvaluator`] (`O(lmax^2)` per direction) and [`SpinTransform`] (on the exact
 //! grid).
 
-pub mod evaluator;
+pub(crate) mod evaluator;
 mod recursion;
-pub mod transform;
+pub(crate) mod transform;
 
 pub use evaluator::SpinEvaluator;
 pub(crate) use recursion::HalfAngle;
