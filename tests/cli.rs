@@ -170,7 +170,7 @@ fn project_rotate_reconstruct_pipeline() {
     let lmax = 4;
     let v = psh::testing::random_psh(lmax, Codomain::Full, 3, 31).unwrap();
     let map = StokesMap::reconstruct(&v, MapLayout::from_image_size(96, 128).unwrap()).unwrap();
-    exr::write_stokes_map(&map, &p("in_s%d.exr")).unwrap();
+    exr::write_stokes_map(&map, p("in_s%d.exr")).unwrap();
 
     let run = |args: &[&str]| {
         let out = psh(args);

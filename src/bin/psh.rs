@@ -1022,7 +1022,7 @@ fn reconstruct(a: &ReconstructArgs) -> psh::Result<serde_json::Value> {
     let v = psh::io::npz::read_psh_npz(&a.input)?;
     // A map is indexed by the direction towards the source.
     let map = StokesMap::reconstruct(&v.converted(FieldArgument::TowardsSource), layout)?;
-    let mut written = psh::io::exr::write_stokes_map(&map, &format!("{}_s%d.exr", a.output))?;
+    let mut written = psh::io::exr::write_stokes_map(&map, format!("{}_s%d.exr", a.output))?;
     written.extend(psh::io::png::write_map_pngs(&map, &a.output)?);
     Ok(json!({"input": a.input, "lmax": v.lmax(), "written": written}))
 }

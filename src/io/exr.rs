@@ -219,17 +219,17 @@ mod tests {
             let e = read_stokes_map(pattern).unwrap_err().to_string();
             assert!(e.contains(file) && e.contains(what), "{e}");
         };
-        write_stokes_map(&map, &pat("missing")).unwrap();
+        write_stokes_map(&map, pat("missing")).unwrap();
         std::fs::remove_file(dir.join("missing_s3.exr")).unwrap();
         expect(&pat("missing"), "missing_s3.exr", "missing");
 
-        write_stokes_map(&map, &pat("size")).unwrap();
+        write_stokes_map(&map, pat("size")).unwrap();
         let small = StokesMap::reconstruct(&v, MapLayout::from_image_size(6, 12).unwrap()).unwrap();
-        let other = write_stokes_map(&small, &pat("small")).unwrap();
+        let other = write_stokes_map(&small, pat("small")).unwrap();
         std::fs::copy(&other[2], dir.join("size_s2.exr")).unwrap();
         expect(&pat("size"), "size_s2.exr", "differs");
 
-        let mut odd = write_stokes_map(&map, &pat("odd")).unwrap();
+        let mut odd = write_stokes_map(&map, pat("odd")).unwrap();
         std::fs::write(odd.remove(1), b"not an exr file").unwrap();
         expect(&pat("odd"), "odd_s1.exr", "malformed");
 
@@ -237,7 +237,7 @@ mod tests {
         nan[2][20][0] = f64::NAN;
         // Built directly: `StokesMap::new` refuses NaN, so write the raw channel.
         let raw = StokesMap::reconstruct(&v, MapLayout::from_image_size(12, 16).unwrap()).unwrap();
-        let paths = write_stokes_map(&raw, &pat("nan")).unwrap();
+        let paths = write_stokes_map(&raw, pat("nan")).unwrap();
         let list: SmallVec<[AnyChannel<FlatSamples>; 4]> = ["B", "G", "R"]
             .iter()
             .map(|&n| {
