@@ -16,7 +16,6 @@ use crate::pprt::scene::Scene;
 use crate::pprt::settings::{Planning, TransferSettings, Visibility};
 use crate::pprt::transfer::precompute_planned;
 use serde::Serialize;
-use serde_json::json;
 use std::path::Path;
 use std::time::Instant;
 
@@ -43,6 +42,30 @@ pub struct Row {
     pub precompute_s: f64,
     pub frame_s: f64,
     pub rmse: [f64; 4],
+}
+
+/// `bench-error.json`: the ground truth, every row, and the speed-up at equal error.
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchErrorReport {
+    pub ground_truth_spp: usize,
+    pub ground_truth_s: f64,
+    /// Width and height in pixels.
+    pub image: [usize; 2],
+    pub rows: Vec<Row>,
+    /// `None` (JSON `null`) without a PPRT `full` row at `l_max` or two reference rows.
+    pub speedup_at_equal_rmse: Option<Speedup>,
+}
+
+/// The reference's frame time at PPRT `full`'s total RMSE at `l_max` over PPRT's.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Speedup {
+    pub pprt_l_max: usize,
+    pub pprt_rmse: f64,
+    pub pprt_frame_s: f64,
+    pub reference_frame_s: f64,
+    pub ratio: f64,
+    /// Whether the reference's time was extrapolated beyond its sample ladder.
+    pub extrapolated: bool,
 }
 
 impl Row {
@@ -113,7 +136,7 @@ pub fn bench_error(
     scene: &Scene,
     options: &BenchErrorOptions,
     out: &Path,
-) -> Result<serde_json::Value> {
+) -> Result<BenchErrorReport> {
     if options.l_max < 2 || options.l_max > scene.environment().lmax() || options.spp.is_empty() {
         return Err(Error::InvalidArgument {
             name: "bench-error options",
@@ -195,25 +218,27 @@ pub fn bench_error(
         rmse: rmse(&image, &truth)?,
     });
     let speedup = speedup_at_equal_error(&rows, options.l_max);
-    let report = json!({
-        "ground_truth_spp": options.ground_truth_spp,
-        "ground_truth_s": truth_s,
-        "image": [truth.width, truth.height],
-        "rows": rows,
-        "speedup_at_equal_rmse": speedup,
-    });
+    let report = BenchErrorReport {
+        ground_truth_spp: options.ground_truth_spp,
+        ground_truth_s: truth_s,
+        image: [truth.width, truth.height],
+        rows,
+        speedup_at_equal_rmse: speedup,
+    };
     write_text(
         &out.join("bench-error.json"),
-        &serde_json::to_string_pretty(&report).map_err(|e| Error::InvalidArgument {
-            name: "report",
-            value: "bench-error.json".into(),
-            reason: e.to_string(),
-        })?,
+        &serde_json::to_value(&report)
+            .and_then(|v| serde_json::to_string_pretty(&v))
+            .map_err(|e| Error::InvalidArgument {
+                name: "report",
+                value: "bench-error.json".into(),
+                reason: e.to_string(),
+            })?,
     )?;
     let mut csv = String::from(
         "method,setting,l_max,spp,precompute_s,frame_s,rmse_s0,rmse_s1,rmse_s2,rmse_s3\n",
     );
-    for r in &rows {
+    for r in &report.rows {
         let opt = |x: Option<usize>| x.map_or(String::new(), |v| v.to_string());
         csv += &format!(
             "{},{},{},{},{:.6},{:.6},{:.6e},{:.6e},{:.6e},{:.6e}\n",
@@ -230,24 +255,21 @@ pub fn bench_error(
         );
     }
     write_text(&out.join("bench-error.csv"), &csv)?;
-    plot_error_time(&rows, &out.join("bench-error.png"))?;
-    plot_fig19(&rows, options.l_max, &out.join("fig19.png"))?;
+    plot_error_time(&report.rows, &out.join("bench-error.png"))?;
+    plot_fig19(&report.rows, options.l_max, &out.join("fig19.png"))?;
     Ok(report)
 }
 
 /// The reference's frame time at PPRT `full`'s total RMSE at `l_max`, by log-log
 /// interpolation along the sample ladder (extrapolated from the last two counts when the
 /// ladder does not reach that error), over PPRT's frame time.
-fn speedup_at_equal_error(rows: &[Row], l_max: usize) -> serde_json::Value {
-    let Some(p) = rows
+fn speedup_at_equal_error(rows: &[Row], l_max: usize) -> Option<Speedup> {
+    let p = rows
         .iter()
-        .find(|r| r.method == "pprt" && r.setting == "full" && r.l_max == Some(l_max))
-    else {
-        return serde_json::Value::Null;
-    };
+        .find(|r| r.method == "pprt" && r.setting == "full" && r.l_max == Some(l_max))?;
     let refs: Vec<&Row> = rows.iter().filter(|r| r.setting == "exact").collect();
     if refs.len() < 2 {
-        return serde_json::Value::Null;
+        return None;
     }
     let target = p.total();
     let first_below = refs.iter().position(|r| r.total() <= target);
@@ -259,10 +281,13 @@ fn speedup_at_equal_error(rows: &[Row], l_max: usize) -> serde_json::Value {
     let (a, b) = (refs[k], refs[k + 1]);
     let slope = (b.frame_s.ln() - a.frame_s.ln()) / (b.total().ln() - a.total().ln());
     let t = (a.frame_s.ln() + slope * (target.ln() - a.total().ln())).exp();
-    json!({
-        "pprt_l_max": l_max, "pprt_rmse": target, "pprt_frame_s": p.frame_s,
-        "reference_frame_s": t, "ratio": t / p.frame_s,
-        "extrapolated": matches!(first_below, None | Some(0)),
+    Some(Speedup {
+        pprt_l_max: l_max,
+        pprt_rmse: target,
+        pprt_frame_s: p.frame_s,
+        reference_frame_s: t,
+        ratio: t / p.frame_s,
+        extrapolated: matches!(first_below, None | Some(0)),
     })
 }
 

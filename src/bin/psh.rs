@@ -450,8 +450,13 @@ struct FresnelArgs {
     #[arg(long, default_value_t = 0.0)]
     k: f64,
     /// Cosines of the angle of incidence, comma-separated, each in [0, 1].
-    #[arg(long)]
-    cos_i: String,
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        required = true
+    )]
+    cos_i: Vec<f64>,
 }
 
 #[derive(Args)]
@@ -993,7 +998,9 @@ fn bench_error(a: &BenchErrorArgs) -> psh::Result<serde_json::Value> {
         spp,
         ground_truth_spp: a.ground_truth_spp,
     };
-    psh::apps::bench_error::bench_error(&scene, &options, &a.out)
+    to_json(&psh::apps::bench_error::bench_error(
+        &scene, &options, &a.out,
+    )?)
 }
 
 /// An equirectangular size `H,W` (rows, columns).
@@ -1335,13 +1342,8 @@ fn eval_fresnel(a: &FresnelArgs) -> psh::Result<serde_json::Value> {
     let ior = psh::optics::ComplexIor::new(a.n, a.k)?;
     let results = a
         .cos_i
-        .split(',')
-        .map(|x| {
-            let c: f64 = x.trim().parse().map_err(|_| Error::InvalidArgument {
-                name: "--cos-i",
-                value: x.to_string(),
-                reason: "cosines in [0, 1], comma-separated".into(),
-            })?;
+        .iter()
+        .map(|&c| {
             let f = psh::optics::fresnel(c, &ior)?;
             Ok(json!({
                 "cos_i": c,
