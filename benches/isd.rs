@@ -5,7 +5,7 @@
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion};
 use psh::geometry::rotation_from_rotvec;
-use psh::isd::filter::sh_rotate_dot;
+use psh::isd::sh_rotate_dot;
 use psh::isd::{DirectionSet, Isd, Pattern, PreConvolved, Profile, Sharing};
 use psh::random::pseudo_random;
 use psh::sh::num_coeffs;

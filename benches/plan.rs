@@ -9,14 +9,14 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use nalgebra::Vector3;
 use psh::geometry::direction_angles;
-use psh::pprt::plan::Plan;
-use psh::pprt::render::{background, primary_hits, render_frame};
-use psh::pprt::scene::{Hit, Scene};
-use psh::pprt::transfer::{precompute_planned, ray_visibility, VisibilityRays};
+use psh::pprt::Plan;
 use psh::pprt::TransferSettings;
-use psh::sh::harmonics::ShEvaluator;
+use psh::pprt::{background, primary_hits, render_frame};
+use psh::pprt::{precompute_planned, ray_visibility, VisibilityRays};
+use psh::pprt::{Hit, Scene};
 use psh::sh::num_coeffs;
-use psh::sh::wigner::RealWignerD;
+use psh::sh::RealWignerD;
+use psh::sh::ShEvaluator;
 use psh::sh::{GauntBasis, GauntTable};
 use rayon::prelude::*;
 use std::time::Instant;
@@ -61,9 +61,7 @@ fn scalar_only(scene: &Scene, blocks: &[Vec<Vec<f64>>], hits: &[Option<Hit>]) ->
                 .zip(o.mesh.normals())
                 .map(|(p, nrm)| {
                     let v = ray_visibility(scene, *p, *nrm, &rays).unwrap();
-                    let rotation = psh::geometry::frame::Frame::from_z(*nrm)
-                        .unwrap()
-                        .rotation();
+                    let rotation = psh::geometry::Frame::from_z(*nrm).unwrap().rotation();
                     let to_local = RealWignerD::new(&rotation.inverse(), l).unwrap();
                     let view = rotation.inverse() * (eye - Vector3::from(*p)).normalize();
                     let (t, ph) = direction_angles([view.x, view.y, view.z]).unwrap();
@@ -96,7 +94,7 @@ fn scalar_only(scene: &Scene, blocks: &[Vec<Vec<f64>>], hits: &[Option<Hit>]) ->
 }
 
 fn plan(c: &mut Criterion) {
-    let scene = psh::pprt::builtin::builtin_unpolarized_scene(SETTINGS.l_low, 96, 72).unwrap();
+    let scene = psh::pprt::builtin_unpolarized_scene(SETTINGS.l_low, 96, 72).unwrap();
     let t0 = Instant::now();
     let plan = Plan::new(&scene, SETTINGS, psh::pprt::Planning::Tolerance(1e-3)).unwrap();
     eprintln!(

@@ -1,9 +1,9 @@
 //! Criterion benches of polarized SH (ids as in the issue tracker).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use psh::geometry::frame::CubeMapFrameField;
-use psh::geometry::image_grid::{CubeCross, PixelGrid};
 use psh::geometry::rotation_from_rotvec;
+use psh::geometry::CubeMapFrameField;
+use psh::geometry::{CubeCross, PixelGrid};
 use psh::polarized::{project_cube_map, project_image, Codomain, PshEvaluator, PshRotation};
 use psh::random::pseudo_random;
 use psh::testing::random_psh;

@@ -2,8 +2,8 @@
 //! coefficients (SHG (4)-(5)) and coefficients with gradients (SHG (6)), per band limit.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use psh::lights::polygon::{PolygonalLight, PolygonalLights};
-use psh::lights::source::Order;
+use psh::lights::Order;
+use psh::lights::{PolygonalLight, PolygonalLights};
 
 fn polygon(c: &mut Criterion) {
     let light = PolygonalLight::new(

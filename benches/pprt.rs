@@ -2,11 +2,11 @@
 //! scene (`scenes/buddha.toml`; skipped with a message when the shared data is absent).
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use psh::io::scene_file::{data_dir, load_scene};
-use psh::pprt::plan::Plan;
-use psh::pprt::render::{background, primary_hits, render_frame};
-use psh::pprt::transfer::precompute_planned;
+use psh::io::{data_dir, load_scene};
+use psh::pprt::precompute_planned;
+use psh::pprt::Plan;
 use psh::pprt::TransferSettings;
+use psh::pprt::{background, primary_hits, render_frame};
 
 fn pprt(c: &mut Criterion) {
     if !data_dir().join("polarsh/buddha.obj").exists() {

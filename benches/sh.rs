@@ -3,10 +3,10 @@
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion};
 use psh::geometry::rotation_from_rotvec;
 use psh::random::pseudo_random;
-use psh::sh::harmonics::ShEvaluator;
+use psh::sh::for_each_block;
 use psh::sh::num_coeffs;
-use psh::sh::transform::ShTransform;
-use psh::sh::wigner::for_each_block;
+use psh::sh::ShEvaluator;
+use psh::sh::ShTransform;
 use psh::testing::random_directions;
 
 /// All complex Wigner blocks l <= L of one generic rotation, each block visited once.

@@ -1,7 +1,7 @@
 //! Criterion benches of the SH gradients and Hessians via solid harmonics (SHH Sec. 4).
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion};
-use psh::sh::solid::SolidHarmonics;
+use psh::sh::SolidHarmonics;
 use psh::testing::random_directions;
 
 /// Values, gradients and Hessians of all real SH `l <= L` at 10,000 directions (the

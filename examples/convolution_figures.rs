@@ -18,7 +18,7 @@
 #[path = "common/sponza.rs"]
 mod sponza;
 use psh::apps::plot::{LinePlot, Series};
-use psh::io::png::write_map_pngs;
+use psh::io::write_map_pngs;
 use psh::map::{MapLayout, StokesMap};
 use psh::optics::PolarizedPlastic;
 use psh::polarized::{

@@ -21,7 +21,7 @@ fn main() {
 
 #[cfg(feature = "exact")]
 mod imp {
-    use psh::exact::wigner3j::{
+    use psh::exact::{
         gaunt_exact, gaunt_product_exact, real_gaunt_exact, wigner_3j_exact, ExactGaunt, SignedSqrt,
     };
     use std::collections::BTreeSet;

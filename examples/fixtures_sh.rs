@@ -27,8 +27,8 @@ mod generate {
     use std::fmt::Write as _;
     use std::time::Instant;
 
-    use psh::exact::legendre::pbar_degrees;
-    use psh::exact::wigner_d::small_d_many;
+    use psh::exact::pbar_degrees;
+    use psh::exact::small_d_many;
     use psh::exact::{float_from_f64, to_sci_string};
 
     /// The exact command that regenerates both files (stored in each of them).

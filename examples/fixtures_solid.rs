@@ -1,6 +1,6 @@
 //! Regenerates `tests/fixtures/sh_hessian.json`: Cartesian Hessians of the real SH of
 //! the bands `l` in {4, 8, 12, 16, 20, 30, 50} (every `m`) at 8 directions, from the
-//! arbitrary-precision oracle [`psh::exact::solid::sh_jets`] (explicit polynomial and
+//! arbitrary-precision oracle [`psh::exact::sh_jets`] (explicit polynomial and
 //! second-order automatic differentiation, independent of the recurrences of
 //! `psh::sh::solid`). These are the orders of SHH Table 1 and two beyond.
 //!
@@ -23,7 +23,7 @@ mod generate {
     use super::fixture_json::{arg_json, js};
     use std::fmt::Write as _;
 
-    use psh::exact::solid::sh_jets;
+    use psh::exact::sh_jets;
     use psh::exact::to_sci_string;
     use psh::geometry::direction;
     use rug::Float;

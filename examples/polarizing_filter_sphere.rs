@@ -31,9 +31,9 @@
 //! [OMEGA_DEGREES] [OUT_DIR]` (defaults: all, 90, `target/polarizing_filter_sphere`).
 
 use nalgebra::Vector3;
-use psh::io::png::{srgb8, write_png};
-use psh::optics::filter::{filter_angle, mueller_filtered_reflection, omega, omega_ior, Incidence};
-use psh::optics::filter_table::metalness;
+use psh::io::{srgb8, write_png};
+use psh::optics::metalness;
+use psh::optics::{filter_angle, mueller_filtered_reflection, omega, omega_ior, Incidence};
 use psh::optics::{Channel, FresnelCoefficients, Material};
 use std::path::PathBuf;
 use std::process::ExitCode;

@@ -15,16 +15,16 @@
 #[path = "common/sponza.rs"]
 mod sponza;
 use psh::apps::figure10::{off_block_fraction, rotation_coefficient_matrix, LinearBasis};
-use psh::geometry::frame::ThetaPhiFrameField;
-use psh::geometry::image_grid::{Equirect, PixelGrid};
-use psh::geometry::rotated::Rotated;
 use psh::geometry::rotation_from_rotvec;
-use psh::io::png::{diverging, write_map_pngs, write_matrix_png, write_png};
+use psh::geometry::Rotated;
+use psh::geometry::ThetaPhiFrameField;
+use psh::geometry::{Equirect, PixelGrid};
+use psh::io::{diverging, write_map_pngs, write_matrix_png, write_png};
 use psh::map::{MapLayout, StokesMap};
 use psh::polarized::{reconstruct_image, PshRotation, PshTransform, PshVector};
-use psh::sh::harmonics::ShEvaluator;
-use psh::sh::transform::ShTransform;
-use psh::sh::wigner::RealWignerD;
+use psh::sh::RealWignerD;
+use psh::sh::ShEvaluator;
+use psh::sh::ShTransform;
 use psh::sh::{lm_of_index, num_coeffs};
 use sponza::sponza_or_synthetic;
 use std::path::{Path, PathBuf};

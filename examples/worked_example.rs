@@ -17,14 +17,14 @@
 
 use nalgebra::Vector3;
 use psh::geometry::direction;
-use psh::geometry::image_grid::{CubeCross, PixelGrid};
 use psh::geometry::rotation_from_rotvec;
-use psh::sh::grid::SphereGrid;
-use psh::sh::harmonics::ShEvaluator;
-use psh::sh::pixel::project_real;
-use psh::sh::transform::ShTransform;
-use psh::sh::wigner::RealWignerD;
-use psh::sh::zonal::{funk_hecke, zonal_coefficients};
+use psh::geometry::{CubeCross, PixelGrid};
+use psh::sh::project_real;
+use psh::sh::RealWignerD;
+use psh::sh::ShEvaluator;
+use psh::sh::ShTransform;
+use psh::sh::SphereGrid;
+use psh::sh::{funk_hecke, zonal_coefficients};
 use psh::sh::{lm_index, num_coeffs};
 use std::f64::consts::PI;
 

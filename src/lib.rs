@@ -36,7 +36,7 @@
 //! # #[cfg(all(feature = "io", feature = "render"))]
 //! # fn main() -> psh::Result<()> {
 //! use psh::geometry::{rotation_from_rotvec, Frame};
-//! use psh::io::{exr, npz};
+//! use psh::io;
 //! use psh::map::{MapLayout, StokesMap};
 //! use psh::optics::{Channel, Conductor, Material};
 //! use psh::polarized::{kernel_coefficients, project_operator, Codomain, ConvolutionKernel};
@@ -44,21 +44,21 @@
 //! # let dir = std::env::temp_dir().join(format!("psh-quickstart-{}", std::process::id()));
 //! # std::fs::create_dir_all(&dir).unwrap();
 //! # let pattern = dir.join("sky_s%d.exr");
-//! # let sky = psh::pprt::sky::RayleighSky::new(0.5, 1.0)?.project(8)?;
-//! # exr::write_stokes_map(&StokesMap::reconstruct(&sky, MapLayout::from_image_size(64, 128)?)?, &pattern)?;
+//! # let sky = psh::pprt::RayleighSky::new(0.5, 1.0)?.project(8)?;
+//! # io::write_stokes_map(&StokesMap::reconstruct(&sky, MapLayout::from_image_size(64, 128)?)?, &pattern)?;
 //! # let gold = Conductor::from_material(0.3, Material::Gold, Channel::Red)?;
 //! # let measured = dir.join("gold_ISOBI2.npz");
-//! # npz::write_isotropic_npz(&measured, &IsotropicMatrix::from_dense(
+//! # io::write_isotropic_npz(&measured, &IsotropicMatrix::from_dense(
 //! #     &project_operator(&gold, 6, 6, SpinBlock22::ComplexPair)?, 1e-12)?)?;
 //! // An environment map: one EXR per Stokes component, Mitsuba 3's frames (PSH (14)).
-//! let map = exr::read_stokes_map(&pattern)?;
+//! let map = io::read_stokes_map(&pattern)?;
 //! let env = map.project(Codomain::Full, 6)?; // PSH (32), indexed towards the source
 //! let r = rotation_from_rotvec([0.0, 0.0, 0.4])?;
 //! let turned = PshRotation::new(&r, 6)?.rotate(&env)?; // PSH (35)-(37)
 //! let k = kernel_coefficients(&ConvolutionKernel::linear_zenith(), 6)?;
 //! let blurred = k.convolve(&turned)?; // PSH (69)
 //! // A measured pBRDF in polarsh's ISOBI2 layout, indexed by directions of travel.
-//! let pbrdf = npz::read_isotropic_npz(&measured)?;
+//! let pbrdf = io::read_isotropic_npz(&measured)?;
 //! let incident = blurred.channel(0)?.converted(pbrdf.input());
 //! let reflected = pbrdf.apply(&incident)?; // PSH (41)
 //! assert_eq!(reflected.argument(), FieldArgument::Travel);

@@ -161,7 +161,7 @@ fn verify_json_follows_the_contract() {
 /// up to the texel quadrature error.
 #[test]
 fn project_rotate_reconstruct_pipeline() {
-    use psh::io::{exr, npz};
+    use psh::io;
     use psh::map::{MapLayout, StokesMap};
     use psh::polarized::{Codomain, PshRotation};
     let dir = std::env::temp_dir().join(format!("psh-cli-{}", std::process::id()));
@@ -170,7 +170,7 @@ fn project_rotate_reconstruct_pipeline() {
     let lmax = 4;
     let v = psh::testing::random_psh(lmax, Codomain::Full, 3, 31).unwrap();
     let map = StokesMap::reconstruct(&v, MapLayout::from_image_size(96, 128).unwrap()).unwrap();
-    exr::write_stokes_map(&map, p("in_s%d.exr")).unwrap();
+    io::write_stokes_map(&map, p("in_s%d.exr")).unwrap();
 
     let run = |args: &[&str]| {
         let out = psh(args);
@@ -186,7 +186,7 @@ fn project_rotate_reconstruct_pipeline() {
     // The files are indexed by travel (polarsh's convention); the map and `v` by the
     // direction towards the source.
     let read = |f: &str| {
-        npz::read_psh_npz(p(f))
+        io::read_psh_npz(p(f))
             .unwrap()
             .converted(psh::polarized::FieldArgument::TowardsSource)
     };
@@ -389,13 +389,13 @@ fn filter_report_writes_csv_and_png() {
 /// errors naming the file.
 #[test]
 fn convolve_with_builtin_and_table_kernels() {
-    use psh::io::npz;
+    use psh::io;
     use psh::polarized::{kernel_coefficients, Codomain, ConvolutionKernel};
     let dir = std::env::temp_dir().join(format!("psh-cli-conv-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let p = |name: &str| dir.join(name).to_str().unwrap().to_string();
     let v = psh::testing::random_psh(6, Codomain::NoCircular, 3, 41).unwrap();
-    npz::write_psh_npz(p("in.npz"), &v).unwrap();
+    io::write_psh_npz(p("in.npz"), &v).unwrap();
     let out = psh(&[
         "convolve",
         &p("in.npz"),
@@ -422,7 +422,7 @@ fn convolve_with_builtin_and_table_kernels() {
             .zip(want.data())
             .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
     };
-    assert!(diff(&npz::read_psh_npz(p("a.npz")).unwrap()) < 1e-13);
+    assert!(diff(&io::read_psh_npz(p("a.npz")).unwrap()) < 1e-13);
 
     let pi = std::f64::consts::PI;
     let mut table =
@@ -448,7 +448,7 @@ fn convolve_with_builtin_and_table_kernels() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let err = diff(&npz::read_psh_npz(p("b.npz")).unwrap());
+    let err = diff(&io::read_psh_npz(p("b.npz")).unwrap());
     assert!(err < 1e-13, "{err}");
 
     std::fs::write(p("bad.csv"), "0,1\n").unwrap();
@@ -533,7 +533,7 @@ fn lights_demo_writes_table_and_images() {
 /// the matrix's band limit is an error naming the file.
 #[test]
 fn apply_isotropic_matrix_file() {
-    use psh::io::npz;
+    use psh::io;
     use psh::polarized::{isotropic_pairs, Codomain, FieldArgument, IsotropicMatrix};
     let dir = std::env::temp_dir().join(format!("psh-cli-apply-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -554,20 +554,20 @@ fn apply_isotropic_matrix_file() {
     let m = IsotropicMatrix::from_blocks(lmax, 3, &blocks)
         .unwrap()
         .labelled(FieldArgument::Travel, FieldArgument::Travel);
-    npz::write_isotropic_npz(p("m.npz"), &m).unwrap();
+    io::write_isotropic_npz(p("m.npz"), &m).unwrap();
     let v = psh::testing::random_psh(6, Codomain::NoCircular, 3, 43)
         .unwrap()
         .labelled(FieldArgument::Travel);
-    npz::write_psh_npz(p("v.npz"), &v).unwrap();
+    io::write_psh_npz(p("v.npz"), &v).unwrap();
     let out = psh(&["apply", &p("m.npz"), &p("v.npz"), "-o", &p("out.npz")]);
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let got = npz::read_psh_npz(p("out.npz")).unwrap();
+    let got = io::read_psh_npz(p("out.npz")).unwrap();
     assert_eq!(got, m.apply(&v.truncated(lmax).unwrap()).unwrap());
-    npz::write_psh_npz(p("low.npz"), &v.truncated(2).unwrap()).unwrap();
+    io::write_psh_npz(p("low.npz"), &v.truncated(2).unwrap()).unwrap();
     let bad = psh(&["apply", &p("m.npz"), &p("low.npz"), "-o", &p("x.npz")]);
     assert!(!bad.status.success());
     let e = String::from_utf8_lossy(&bad.stderr);

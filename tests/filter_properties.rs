@@ -7,10 +7,8 @@
 
 use nalgebra::{Rotation3, Vector3};
 use proptest::prelude::*;
-use psh::geometry::frame::Frame;
-use psh::optics::filter::{
-    filter_angle, ior_from_r0, omega, omega_ior, psi, psi_approx, Incidence,
-};
+use psh::geometry::Frame;
+use psh::optics::{filter_angle, ior_from_r0, omega, omega_ior, psi, psi_approx, Incidence};
 use psh::optics::{ComplexIor, FresnelCoefficients, LinearPolarizer};
 use psh::stokes::{MuellerTransform, StokesComponents, StokesVector};
 use std::f64::consts::PI;

@@ -6,10 +6,10 @@
 use proptest::prelude::*;
 use psh::geometry::direction;
 use psh::geometry::rotation_from_rotvec;
-use psh::isd::decomposition::{condition_number, transfer_matrix};
-use psh::isd::filter::spherical_light;
+use psh::isd::spherical_light;
+use psh::isd::{condition_number, transfer_matrix};
 use psh::isd::{DirectionSet, Isd, Pattern, PreConvolved, Profile, Sharing, MAX_LMAX};
-use psh::lights::spherical::SphericalLight;
+use psh::lights::SphericalLight;
 use psh::sh::num_coeffs;
 use psh::verify::isd::filter_vs_wigner_error;
 use psh::Error;

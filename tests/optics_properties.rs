@@ -11,7 +11,7 @@
 use nalgebra::{Matrix4, Vector3, Vector4};
 use num_complex::Complex64;
 use proptest::prelude::*;
-use psh::geometry::frame::Frame;
+use psh::geometry::Frame;
 use psh::optics::{
     fresnel, sp_frames, Channel, ComplexIor, Conductor, FresnelCoefficients, Lambertian, Material,
     MicrofacetSpecular, PolarizedPlastic,

@@ -2,8 +2,8 @@
 //! planned render against the full one, and bad input.
 
 use psh::polarized::{Codomain, Sparsity};
-use psh::pprt::plan::Plan;
-use psh::pprt::transfer::precompute_planned;
+use psh::pprt::precompute_planned;
+use psh::pprt::Plan;
 use psh::pprt::TransferSettings;
 use psh::pprt::Visibility;
 use psh::verify::{tangent_plane_vs_rays, unpolarized_vs_full};
@@ -22,7 +22,7 @@ fn settings(l_low: usize, l_high: usize, rays: usize) -> TransferSettings {
 /// render equals the full one within the tolerance (the high orders' dropped tail).
 #[test]
 fn unpolarized_scene_plans_scalar_sh() {
-    let scene = psh::pprt::builtin::builtin_unpolarized_scene(9, 8, 6).unwrap();
+    let scene = psh::pprt::builtin_unpolarized_scene(9, 8, 6).unwrap();
     let plan = Plan::new(
         &scene,
         settings(4, 9, 16),
@@ -55,7 +55,7 @@ fn unpolarized_scene_plans_scalar_sh() {
 /// The polarized built-in scene needs everything but the dense storage.
 #[test]
 fn polarized_scene_keeps_stokes_and_rays() {
-    let scene = psh::pprt::builtin::builtin_scene(9, 8, 6).unwrap();
+    let scene = psh::pprt::builtin_scene(9, 8, 6).unwrap();
     let plan = Plan::new(
         &scene,
         settings(4, 9, 16),
@@ -91,7 +91,7 @@ fn convex_scene_needs_no_rays() {
 
 #[test]
 fn bad_input_is_an_error() {
-    let scene = psh::pprt::builtin::builtin_unpolarized_scene(9, 8, 6).unwrap();
+    let scene = psh::pprt::builtin_unpolarized_scene(9, 8, 6).unwrap();
     for tol in [0.0, 1.0, f64::NAN, -1e-3] {
         let e = Plan::new(
             &scene,
@@ -118,7 +118,7 @@ fn bad_input_is_an_error() {
 /// an error naming the material.
 #[test]
 fn scene_files_plan_as_documented() {
-    use psh::io::scene_file::load_scene;
+    use psh::io::load_scene;
     let dir = env!("CARGO_MANIFEST_DIR");
     let (scene, s) = load_scene(format!("{dir}/scenes/diffuse.toml"), 0).unwrap();
     let plan = Plan::new(

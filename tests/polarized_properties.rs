@@ -3,9 +3,9 @@
 
 use nalgebra::Rotation3;
 use proptest::prelude::*;
-use psh::geometry::frame::{CubeMapFrameField, Frame, FrameField, ThetaPhiFrameField};
-use psh::geometry::image_grid::CubeCross;
 use psh::geometry::rotation_from_rotvec;
+use psh::geometry::CubeCross;
+use psh::geometry::{CubeMapFrameField, Frame, FrameField, ThetaPhiFrameField};
 use psh::polarized::{project_image, reconstruct_image, Codomain, PshRotation, PshVector};
 
 fn rotvec() -> impl Strategy<Value = [f64; 3]> {

@@ -3,9 +3,8 @@
 
 use nalgebra::{Rotation3, Vector3};
 use proptest::prelude::*;
-use psh::lights::polygon::boundary::triangle_solid_angle;
-use psh::lights::polygon::{reference, PolygonalLight, PolygonalLights};
-use psh::lights::source::Order;
+use psh::lights::Order;
+use psh::lights::{PolygonalLight, PolygonalLights};
 use psh::verify::polygon::{
     coefficient_errors, gradient_fd_errors, gradient_quadrature_errors, switch_errors,
 };
@@ -45,32 +44,7 @@ fn small_light_switch() {
     }
 }
 
-/// The reference quadrature keeps the relative precision of a small light far from the
-/// origin: its `L_00` is the solid angle (Van Oosterom-Strackee from the edges, exact to
-/// rounding) over `2 sqrt(pi)` to 2e-15 (measured at most 1.0e-15), for triangles of edges 1e-3 to 1e-5 at distance
-/// 1 (Newell's normal from absolute positions, or midpoints of absolute positions in the
-/// subdivision, lost `eps / T`: 1.5e-11 at 1e-3).
-#[test]
-fn reference_l0_of_small_lights() {
-    let base = [[0.3, 0.2, 0.9], [0.301, 0.2, 0.9], [0.3, 0.2008, 0.9005]];
-    for scale in [1.0, 0.1, 0.01] {
-        let v: Vec<[f64; 3]> = base
-            .iter()
-            .map(|p| std::array::from_fn(|i| base[0][i] + scale * (p[i] - base[0][i])))
-            .collect();
-        let light = PolygonalLight::new(v.clone(), 1.0).unwrap();
-        let want = triangle_solid_angle(v[0], v[1], v[2]).abs() / (2.0 * PI.sqrt());
-        let got = reference::coefficients(&light, [0.0; 3], None, 2, 1e-13).unwrap()[0];
-        println!(
-            "edges {:.0e}: L_00 relative error {:.1e}",
-            1e-3 * scale,
-            got / want - 1.0
-        );
-        assert!((got / want - 1.0).abs() < 2e-15, "scale {scale}");
-    }
-}
-
-fn field(v: Vec<[f64; 3]>, x: [f64; 3], lmax: usize) -> psh::lights::source::LightField {
+fn field(v: Vec<[f64; 3]>, x: [f64; 3], lmax: usize) -> psh::lights::LightField {
     PolygonalLights::new(vec![PolygonalLight::new(v, 1.0).unwrap()], lmax)
         .unwrap()
         .field(x, Order::Gradients)

@@ -5,12 +5,12 @@
 //! (the vertex's SH vector). Everything band-limited, so the comparison is exact up to
 //! rounding; the band limit itself is the approximation PPRT makes (not measured here).
 
-use psh::geometry::frame::{FrameField, ThetaPhiFrameField};
+use psh::geometry::{FrameField, ThetaPhiFrameField};
 use psh::polarized::{MatrixKernel, PshTransform};
-use psh::pprt::builtin::builtin_scene;
-use psh::pprt::transfer::precompute;
+use psh::pprt::builtin_scene;
+use psh::pprt::precompute;
 use psh::pprt::{Planning, TransferSettings, Visibility};
-use psh::sh::harmonics::sh_real;
+use psh::sh::sh_real;
 use psh::stokes::MuellerField;
 
 fn check(shadows: bool) {
@@ -107,7 +107,7 @@ fn pprt_equals_direct_integration_with_shadows() {
 #[test]
 fn scene_files_render_and_bad_ones_are_errors() {
     use psh::apps::render_job::render_job;
-    use psh::io::scene_file::load_scene;
+    use psh::io::load_scene;
     let dir = std::env::temp_dir().join(format!("psh-scene-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let good = r#"
@@ -213,9 +213,7 @@ material = "gold"
     ];
     let mut bad = settings;
     bad.l_high = 2;
-    let e = psh::pprt::transfer::precompute(&scene, bad)
-        .unwrap_err()
-        .to_string();
+    let e = psh::pprt::precompute(&scene, bad).unwrap_err().to_string();
     assert!(e.contains("l_high 2"), "{e}");
     for (k, (text, what)) in cases.iter().enumerate() {
         let p = dir.join(format!("bad{k}.toml"));
@@ -231,8 +229,8 @@ material = "gold"
 #[test]
 fn rotating_everything_together_leaves_the_image_unchanged() {
     use psh::polarized::PshRotation;
-    use psh::pprt::render::{background, primary_hits, render_frame};
-    use psh::pprt::scene::{Camera, Scene, SceneObject};
+    use psh::pprt::{background, primary_hits, render_frame};
+    use psh::pprt::{Camera, Scene, SceneObject};
     let l = 3;
     let scene = builtin_scene(l, 24, 18).unwrap();
     let r = psh::geometry::rotation_from_rotvec([0.4, -0.9, 0.3]).unwrap();
@@ -308,8 +306,8 @@ fn rotating_everything_together_leaves_the_image_unchanged() {
 /// where each value has one frame; a pixel interpolates vertices whose `chi` differ.
 #[test]
 fn camera_roll_turns_s1_s2_as_psh_14() {
-    use psh::pprt::render::vertex_stokes;
-    use psh::pprt::transfer::high_order_fields;
+    use psh::pprt::high_order_fields;
+    use psh::pprt::vertex_stokes;
     let mut scene = builtin_scene(6, 16, 16).unwrap();
     let settings = TransferSettings {
         l_low: 4,
@@ -412,8 +410,8 @@ fn ablation_writes_three_variants_side_by_side() {
 /// wrong sizes, a material or workspace the reference does not have.
 #[test]
 fn mismatched_runtime_inputs_are_errors() {
-    use psh::pprt::reference::{Fidelity, Reference, ReferenceSettings};
-    use psh::pprt::render::{background, primary_hits, render_frame, vertex_stokes};
+    use psh::pprt::{background, primary_hits, render_frame, vertex_stokes};
+    use psh::pprt::{Fidelity, Reference, ReferenceSettings};
     let scene = builtin_scene(3, 8, 6).unwrap();
     let settings = TransferSettings {
         l_low: 3,
@@ -442,7 +440,7 @@ fn mismatched_runtime_inputs_are_errors() {
     .unwrap();
     let e = r.render(&hits[..10]).unwrap_err();
     assert!(e.to_string().contains("primary hits"), "{e}");
-    let out = psh::geometry::frame::Frame::world();
+    let out = psh::geometry::Frame::world();
     let mut ws = r.workspace().unwrap();
     let e = r
         .outgoing(&mut ws, 9, [0.0; 3], [0.0, 0.0, 1.0], &out, 0)

@@ -6,10 +6,10 @@ use num_complex::Complex64;
 use proptest::prelude::*;
 use psh::geometry::rotation_from_rotvec;
 use psh::geometry::{direction, direction_angles};
-use psh::sh::harmonics::{sh_real, ShEvaluator};
 use psh::sh::num_coeffs;
-use psh::sh::transform::ShTransform;
-use psh::sh::wigner::{RealWignerD, WignerD};
+use psh::sh::ShTransform;
+use psh::sh::{sh_real, ShEvaluator};
+use psh::sh::{RealWignerD, WignerD};
 
 fn rotvec() -> impl Strategy<Value = [f64; 3]> {
     prop::array::uniform3(-3.0f64..3.0)

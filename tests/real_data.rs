@@ -9,10 +9,10 @@
 //! vectors describe the field as a function of the direction of *travel* `v = -w` of the
 //! light (w: the map direction, towards the source), in the theta-phi frames at `v`.
 
-use psh::geometry::frame::{CubeMapFrameField, Frame, FrameField};
-use psh::geometry::image_grid::{CubeCross, PixelGrid};
-use psh::io::exr::read_stokes_map;
-use psh::io::npz::read_psh_npz;
+use psh::geometry::{CubeCross, PixelGrid};
+use psh::geometry::{CubeMapFrameField, Frame, FrameField};
+use psh::io::read_psh_npz;
+use psh::io::read_stokes_map;
 use psh::map::{MapLayout, StokesMap};
 use psh::polarized::{project_image, Codomain, FieldArgument, PshRotation};
 use std::path::PathBuf;
@@ -190,7 +190,7 @@ fn cathedral_projects() {
 /// (`pbrdf.measured_*`), run here too.
 #[test]
 fn gold_pbrdf_round_trips_and_rotates() {
-    use psh::io::npz::{read_isotropic_npz, write_isotropic_npz};
+    use psh::io::{read_isotropic_npz, write_isotropic_npz};
     use psh::polarized::{isotropy_defect, IsotropicMatrix, PshVector};
     let Some(dir) = data_dir() else { return };
     let file = dir.join("SHMat_6_gold_ds1_L20_ISOBI2.npz");

@@ -2,7 +2,7 @@
 //! unshadowed PPRT integrates (the band-limited environment and pBRDF matrices over the
 //! whole sphere), it converges to the PPRT vertex values as the samples grow.
 
-use psh::pprt::builtin::builtin_scene;
+use psh::pprt::builtin_scene;
 
 /// The error falls like a quasi-Monte Carlo rate on a smooth integrand (expected slope
 /// near -1; plain Monte Carlo would give -0.5).

@@ -8,7 +8,7 @@
 use nalgebra::{Matrix4, Rotation3, Vector2, Vector3};
 use num_complex::Complex64;
 use proptest::prelude::*;
-use psh::geometry::frame::{
+use psh::geometry::{
     CubeMapFrameField, Frame, FrameField, PerspectiveFrameField, ThetaPhiFrameField,
 };
 use psh::stokes::{

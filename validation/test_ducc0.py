@@ -1,4 +1,4 @@
-"""psh's scalar and spin-2 SH transforms (psh::sh::transform::ShTransform,
+"""psh's scalar and spin-2 SH transforms (psh::sh::ShTransform,
 psh::swsh::SpinTransform) against ducc0.sht at L = 512 on the
 Gauss-Legendre grid of L + 1 rings by 2L + 2 meridians."""
 

@@ -88,7 +88,7 @@ def test_legendre_l4096(psh, record):
            worst["accurate"][1], 8 * EPS, "max relative error")
     record("mpmath: Pbar_lm accurate path at and near the poles", "mpmath", worst_pole,
            2 * EPS, "max abs error / sqrt((2l+1)/4pi)")
-    # Fast path (f64 recursion of the transforms, psh::sh::legendre::Legendre): psh
+    # Fast path (f64 recursion of the transforms, psh::sh::Legendre): psh
     # documents its rounding growing with l near the poles (proofs/legendre-recursion.md;
     # the cosine term's rounding is amplified like l^2, bound l^2 eps = 3.7e-9).
     # Measured 1.2e-11 at theta = 1e-6 (m = 0), 7e-15 away from the poles; tolerance

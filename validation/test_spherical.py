@@ -31,7 +31,7 @@ def rotvec_arg(v):
 
 
 # The small rotation is kept apart: psh builds D from ZYZ Euler angles of the rotation
-# matrix (psh::sh::wigner::euler_zyz), and alpha, gamma are atan2 of matrix entries of
+# matrix (psh::geometry::euler_zyz), and alpha, gamma are atan2 of matrix entries of
 # size sin(beta), so they carry an error ~ eps / sin(beta) that the phases
 # e^{-i (m alpha + m' gamma)} multiply by up to 2l. spherical works from the quaternion
 # and has no such loss (checked once against a 50-digit evaluation of Wigner's formula:

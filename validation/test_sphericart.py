@@ -1,4 +1,4 @@
-"""psh's real SH, gradients and Hessians (psh::sh::solid) against `sphericart`."""
+"""psh's real SH, gradients and Hessians (psh::sh::SolidHarmonics) against `sphericart`."""
 
 import numpy as np
 import sphericart
@@ -51,7 +51,7 @@ def test_sphericart_normalized(psh, record):
     eg = np.abs(g - sign * sg).max(axis=(0, 1)) / (bound * np.maximum(l, 1))
     eh = np.abs(h - sign * sh).max(axis=(0, 1, 2)) / (bound * np.maximum(l, 1) ** 2)
     # Errors relative to sqrt((2l+1)/(4 pi)) (times l, l^2 for the derivatives, their
-    # natural size). psh's solid-harmonic recursion (psh::sh::solid) runs in f64 in
+    # natural size). psh's solid-harmonic recursion (psh::sh::SolidHarmonics) runs in f64 in
     # z = cos(theta), whose rounding grows with l: the largest gap, 1.6e-14 of the values,
     # is Y_40,0 at the north pole, where psh is 1.5e-14 off a 40-digit value and
     # sphericart 7e-16. Measured 1.6e-14 (values), 9.2e-15 (gradients), 8.1e-15

@@ -6,10 +6,10 @@ use psh::polarized::{Codomain, PshVector};
 use std::path::Path;
 
 pub fn sponza_or_synthetic(lmax: usize) -> psh::Result<(PshVector, String)> {
-    let pattern = psh::io::scene_file::data_dir().join("polarsh/sponza_64_s%d.exr");
+    let pattern = psh::io::data_dir().join("polarsh/sponza_64_s%d.exr");
     let pattern = pattern.to_string_lossy().into_owned();
     if Path::new(&pattern.replace("%d", "0")).exists() {
-        let map = psh::io::exr::read_stokes_map(&pattern)?;
+        let map = psh::io::read_stokes_map(&pattern)?;
         Ok((map.project(Codomain::Full, lmax)?, pattern))
     } else {
         println!("  shared data missing ({pattern}): using a synthetic band-limited map");

@@ -1,6 +1,6 @@
 //! Run time against error (`psh bench-error`): PPRT at a ladder of band limits and
 //! settings, and the reference renderer at a ladder of sample counts, each timed and
-//! measured against a high-sample ground truth ([`crate::pprt::reference`], exact fidelity);
+//! measured against a high-sample ground truth ([`crate::pprt::Reference`], exact fidelity);
 //! PSH Fig. 19 (RMSE per Stokes component falling with the band limit) is the `full`
 //! series of it.
 //!

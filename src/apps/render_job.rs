@@ -18,7 +18,7 @@ use std::time::Instant;
 
 /// Renders `scene` with `settings` into `out` (created), planned as `planning` says
 /// ([`Plan::new`]): `render_s{0..3}.exr` (components
-/// in the camera's frames, [`crate::pprt::render`]), `render_{s0,s1,s2,s3,dop,aop}.png`,
+/// in the camera's frames, [`crate::pprt::render_frame`]), `render_{s0,s1,s2,s3,dop,aop}.png`,
 /// `polarizer_{deg}.png` for each angle in `polarizers` (degrees from image-right towards
 /// image-up) and `report.json` (with the plan), reporting the precomputation to `progress`.
 /// Returns the report.

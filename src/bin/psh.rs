@@ -7,9 +7,9 @@ use num_complex::Complex64;
 use psh::geometry::rotation_from_rotvec;
 use psh::map::{MapLayout, StokesMap};
 use psh::polarized::{Codomain, FieldArgument, PshRotation};
-use psh::sh::harmonics::{sh_complex, sh_real};
-use psh::sh::wigner::{for_each_block, real_block};
 use psh::sh::MAX_DEGREE;
+use psh::sh::{for_each_block, real_block};
+use psh::sh::{sh_complex, sh_real};
 use psh::Error;
 use serde_json::json;
 use std::path::PathBuf;
@@ -326,7 +326,7 @@ enum Eval {
     /// Normalized associated Legendre functions Pbar_lm(theta), m = 0..=l, at one degree l
     /// (PSH (1)), printing JSON.
     Legendre(LegendreArgs),
-    /// Scalar SH transform (psh::sh::transform::ShTransform) on the Gauss-Legendre grid of
+    /// Scalar SH transform (psh::sh::ShTransform) on the Gauss-Legendre grid of
     /// lmax + 1 rings by 2 lmax + 2 meridians, .npy in and out.
     Sht(ShtArgs),
     /// Spin-weighted SH transform (psh::swsh::SpinTransform) on the same grid,
@@ -391,7 +391,7 @@ struct LegendreArgs {
     /// Polar angle in radians, in [0, pi].
     #[arg(long, allow_hyphen_values = true)]
     theta: f64,
-    /// The f64 path of the transforms (psh::sh::legendre::Legendre) instead of the
+    /// The f64 path of the transforms (psh::sh::Legendre) instead of the
     /// double-double path (for_each_column_accurate).
     #[arg(long)]
     fast: bool,
@@ -780,9 +780,9 @@ fn parse_rotvec(text: &str) -> psh::Result<[f64; 3]> {
 fn project(a: &ProjectArgs) -> psh::Result<serde_json::Value> {
     let codomain = a.codomain.codomain();
     psh::sh::check_lmax(a.lmax)?;
-    let map = psh::io::exr::read_stokes_map(&a.input)?;
+    let map = psh::io::read_stokes_map(&a.input)?;
     let v = map.project(codomain, a.lmax)?;
-    psh::io::npz::write_psh_npz(&a.output, &v)?;
+    psh::io::write_psh_npz(&a.output, &v)?;
     Ok(json!({
         "input": a.input, "layout": [map.layout().height(), map.layout().width()],
         "channels": v.channels(), "lmax": v.lmax(), "codomain": codomain.name(),
@@ -791,17 +791,17 @@ fn project(a: &ProjectArgs) -> psh::Result<serde_json::Value> {
 }
 
 fn rotate(a: &RotateArgs) -> psh::Result<serde_json::Value> {
-    let v = psh::io::npz::read_psh_npz(&a.input)?;
+    let v = psh::io::read_psh_npz(&a.input)?;
     let rotvec = a.rotvec;
     let r = rotation_from_rotvec(rotvec)?;
     let rotated = PshRotation::new(&r, v.lmax())?.rotate(&v)?;
-    psh::io::npz::write_psh_npz(&a.output, &rotated)?;
+    psh::io::write_psh_npz(&a.output, &rotated)?;
     Ok(json!({"input": a.input, "rotvec": rotvec, "lmax": v.lmax(), "output": a.output}))
 }
 
 fn apply(a: &ApplyArgs) -> psh::Result<serde_json::Value> {
-    let m = psh::io::npz::read_isotropic_npz(&a.matrix)?;
-    let v = psh::io::npz::read_psh_npz(&a.input)?;
+    let m = psh::io::read_isotropic_npz(&a.matrix)?;
+    let v = psh::io::read_psh_npz(&a.input)?;
     let cut = v.truncated(m.lmax()).map_err(|e| Error::MalformedFile {
         path: a.input.clone(),
         reason: format!(
@@ -811,7 +811,7 @@ fn apply(a: &ApplyArgs) -> psh::Result<serde_json::Value> {
         ),
     })?;
     let out = m.apply(&cut)?;
-    psh::io::npz::write_psh_npz(&a.output, &out)?;
+    psh::io::write_psh_npz(&a.output, &out)?;
     Ok(json!({
         "matrix": a.matrix, "input": a.input, "lmax": m.lmax(), "channels": out.channels(),
         "output": a.output,
@@ -819,21 +819,18 @@ fn apply(a: &ApplyArgs) -> psh::Result<serde_json::Value> {
 }
 
 fn convolve(a: &ConvolveArgs) -> psh::Result<serde_json::Value> {
-    let v = psh::io::npz::read_psh_npz(&a.input)?;
+    let v = psh::io::read_psh_npz(&a.input)?;
     let (kernel, name) = match (&a.kernel, &a.kernel_table) {
         (Some(KernelName::LinearZenith), _) => (
             psh::polarized::ConvolutionKernel::linear_zenith(),
             "linear-zenith".to_string(),
         ),
-        (None, Some(path)) => (
-            psh::io::kernel_csv::read_kernel_csv(path)?,
-            path.display().to_string(),
-        ),
+        (None, Some(path)) => (psh::io::read_kernel_csv(path)?, path.display().to_string()),
         (None, None) => unreachable!("clap requires --kernel or --kernel-table"),
     };
     let k = psh::polarized::kernel_coefficients(&kernel, v.lmax())?;
     let out = k.convolve(&v)?;
-    psh::io::npz::write_psh_npz(&a.output, &out)?;
+    psh::io::write_psh_npz(&a.output, &out)?;
     Ok(json!({
         "input": a.input, "kernel": name, "lmax": v.lmax(),
         "quadrature_error_estimate": k.error_estimate(), "output": a.output,
@@ -846,7 +843,7 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
     let (scene, file_settings, name) = match &a.scene {
         Some(path) => {
             let lmax = a.l_high.unwrap_or(0).max(a.l_low.unwrap_or(0));
-            let (scene, settings) = psh::io::scene_file::load_scene(path, lmax)?;
+            let (scene, settings) = psh::io::load_scene(path, lmax)?;
             (scene, settings, path.display().to_string())
         }
         None => {
@@ -855,7 +852,7 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
                 .l_high
                 .unwrap_or(settings.l_high)
                 .max(a.l_low.unwrap_or(settings.l_low));
-            let scene = psh::pprt::builtin::builtin_scene(lmax, w, h)?;
+            let scene = psh::pprt::builtin_scene(lmax, w, h)?;
             (scene, settings, "the built-in scene".to_string())
         }
     };
@@ -969,16 +966,16 @@ fn bench_error(a: &BenchErrorArgs) -> psh::Result<serde_json::Value> {
     let spp = a.spp.clone();
     let (mut scene, name) = match &a.scene {
         Some(path) => (
-            psh::io::scene_file::load_scene(path, a.lmax)?.0,
+            psh::io::load_scene(path, a.lmax)?.0,
             path.display().to_string(),
         ),
         None => (
-            psh::pprt::builtin::builtin_scene(a.lmax, w, h)?,
+            psh::pprt::builtin_scene(a.lmax, w, h)?,
             "the built-in scene".to_string(),
         ),
     };
     let cam = scene.camera().clone();
-    scene.set_camera(psh::pprt::scene::Camera {
+    scene.set_camera(psh::pprt::Camera {
         width: w,
         height: h,
         ..cam
@@ -1023,14 +1020,14 @@ fn parse_equirect(size: &str) -> psh::Result<EquirectSize> {
 fn reconstruct(a: &ReconstructArgs) -> psh::Result<serde_json::Value> {
     let layout = match (a.equirect, a.cube) {
         (Some(EquirectSize(h, w)), _) => MapLayout::from_image_size(h, w)?,
-        (None, Some(e)) => MapLayout::CubeCross(psh::geometry::image_grid::CubeCross::new(e)?),
+        (None, Some(e)) => MapLayout::CubeCross(psh::geometry::CubeCross::new(e)?),
         (None, None) => unreachable!("clap requires --equirect or --cube"),
     };
-    let v = psh::io::npz::read_psh_npz(&a.input)?;
+    let v = psh::io::read_psh_npz(&a.input)?;
     // A map is indexed by the direction towards the source.
     let map = StokesMap::reconstruct(&v.converted(FieldArgument::TowardsSource), layout)?;
-    let mut written = psh::io::exr::write_stokes_map(&map, format!("{}_s%d.exr", a.output))?;
-    written.extend(psh::io::png::write_map_pngs(&map, &a.output)?);
+    let mut written = psh::io::write_stokes_map(&map, format!("{}_s%d.exr", a.output))?;
+    written.extend(psh::io::write_map_pngs(&map, &a.output)?);
     Ok(json!({"input": a.input, "lmax": v.lmax(), "written": written}))
 }
 
@@ -1208,7 +1205,7 @@ fn eval_swsh_points(a: &SwshPointsArgs) -> psh::Result<serde_json::Value> {
 }
 
 fn eval_sh_derivatives(a: &ShDerivativesArgs) -> psh::Result<serde_json::Value> {
-    let sh = psh::sh::solid::SolidHarmonics::new(a.lmax)?;
+    let sh = psh::sh::SolidHarmonics::new(a.lmax)?;
     let (count, points) = read_npy_rows(&a.points, 3)?;
     let n = sh.len();
     check_output_size(
@@ -1234,7 +1231,7 @@ fn eval_sh_derivatives(a: &ShDerivativesArgs) -> psh::Result<serde_json::Value> 
 }
 
 fn eval_legendre(a: &LegendreArgs) -> psh::Result<serde_json::Value> {
-    use psh::sh::legendre::{for_each_column_accurate, Legendre, Polar};
+    use psh::sh::{for_each_column_accurate, Legendre, Polar};
     psh::sh::check_lmax(a.l)?;
     psh::geometry::check_theta(a.theta)?;
     let mut values = vec![0.0; a.l + 1];
@@ -1250,7 +1247,7 @@ fn eval_legendre(a: &LegendreArgs) -> psh::Result<serde_json::Value> {
 }
 
 /// The grid of a transform as JSON: its size and polar angles.
-fn grid_json(grid: &psh::sh::grid::SphereGrid) -> serde_json::Value {
+fn grid_json(grid: &psh::sh::SphereGrid) -> serde_json::Value {
     json!({"n_theta": grid.rings.len(), "n_phi": grid.n_phi, "theta": grid.rings.theta})
 }
 
@@ -1263,7 +1260,7 @@ fn check_grid_size(lmax: usize) -> psh::Result<()> {
 
 fn eval_sht(a: &ShtArgs) -> psh::Result<serde_json::Value> {
     check_grid_size(a.lmax)?;
-    let t = psh::sh::transform::ShTransform::new(a.lmax)?;
+    let t = psh::sh::ShTransform::new(a.lmax)?;
     let grid = t.grid();
     let n = psh::sh::num_coeffs(a.lmax) as u64;
     let (nt, np) = (grid.rings.len() as u64, grid.n_phi as u64);

@@ -13,10 +13,17 @@
 //! exact: the oracle is then evaluated at exactly the argument the f64 code sees (for
 //! instance `std::f64::consts::PI`, which is not pi).
 
-pub mod legendre;
-pub mod solid;
-pub mod wigner3j;
-pub mod wigner_d;
+pub(crate) mod legendre;
+pub(crate) mod solid;
+pub(crate) mod wigner3j;
+pub(crate) mod wigner_d;
+
+pub use legendre::{pbar, pbar_all, pbar_degrees, pbar_explicit, tri_index};
+pub use solid::{sh_jets, Jet};
+pub use wigner3j::{
+    gaunt_exact, gaunt_product_exact, real_gaunt_exact, wigner_3j_exact, ExactGaunt, SignedSqrt,
+};
+pub use wigner_d::{big_d, small_d, small_d_block, small_d_half, small_d_many};
 
 use rug::float::Round;
 use rug::ops::{AddAssignRound, MulAssignRound};

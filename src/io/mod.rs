@@ -1,6 +1,6 @@
 //! Files: polarized maps as EXR (one file per Stokes component) and as PNG pictures,
 //! PSH coefficient vectors and pBRDF matrices as polarsh-compatible `.npz`, convolution
-//! kernels as CSV, OBJ meshes and TOML scene files ([`scene_file`]): formats only.
+//! kernels as CSV, OBJ meshes and TOML scene files ([`load_scene`], feature `render`): formats only.
 //!
 //! **Stored frames.** Map files store each texel's components as Mitsuba 3 measures them
 //! (the convention of the shared data, `docs/conventions.md`): in the frame `[x, -y, -w]`
@@ -10,14 +10,23 @@
 //! writing apply that map. Coefficient files follow polarsh's travel-direction
 //! convention ([`crate::polarized::FieldArgument::Travel`]).
 
-pub mod exr;
-pub mod kernel_csv;
-pub mod npz;
+pub(crate) mod exr;
+pub(crate) mod kernel_csv;
+pub(crate) mod npz;
 #[cfg(feature = "render")]
-pub mod obj;
-pub mod png;
+pub(crate) mod obj;
+pub(crate) mod png;
 #[cfg(feature = "render")]
-pub mod scene_file;
+pub(crate) mod scene_file;
+
+pub use exr::{read_stokes_map, write_stokes_image, write_stokes_map};
+pub use kernel_csv::read_kernel_csv;
+pub use npz::{read_isotropic_npz, read_psh_npz, write_isotropic_npz, write_psh_npz};
+#[cfg(feature = "render")]
+pub use obj::read_obj;
+pub use png::{diverging, srgb8, write_map_pngs, write_matrix_png, write_png, write_stokes_pngs};
+#[cfg(feature = "render")]
+pub use scene_file::{data_dir, load_scene, SOURCE_LMAX};
 
 use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};

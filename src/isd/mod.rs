@@ -14,10 +14,10 @@
 //! - [`Profile`]: the mother functions (RZH `y_l^0`, and ISD Sec. 7.2's Legendre,
 //!   Gaussian, Phong and Gauss-Legendre profiles) and their ZH coefficients `beta_ll'`
 //!   (ISD (16));
-//! - [`decomposition`]: the transfer matrix `M` (ISD (17)), its conditioning, and the
-//!   weights `Lambda = M^-1 c` (ISD (11));
-//! - [`filter`]: pre-convolved signals (ISD (13), (14)), filtering (ISD (6)) and
-//!   spherical lights (ISD (33), (34)).
+//! - [`Isd`], [`transfer_matrix`], [`condition_number`]: the transfer matrix `M`
+//!   (ISD (17)), its conditioning, and the weights `Lambda = M^-1 c` (ISD (11));
+//! - [`PreConvolved`], [`spherical_light`]: pre-convolved signals (ISD (13), (14)),
+//!   filtering (ISD (6)) and spherical lights (ISD (33), (34)).
 //!
 //! Conventions: real SH of PSH (12) (`docs/conventions.md`), flat index `l*l + l + m`;
 //! `pi_l = sqrt(4 pi / (2l + 1))` (ISD Fig. 2). Derivations not printed in the paper:
@@ -25,14 +25,14 @@
 
 use crate::error::Result;
 
-pub mod decomposition;
+pub(crate) mod decomposition;
 pub(crate) mod directions;
-pub mod filter;
+pub(crate) mod filter;
 pub(crate) mod profiles;
 
-pub use decomposition::{Isd, MAX_CONDITION};
+pub use decomposition::{condition_number, transfer_matrix, Isd, MAX_CONDITION};
 pub use directions::{DirectionSet, Pattern, Sharing};
-pub use filter::PreConvolved;
+pub use filter::{sh_rotate_dot, spherical_light, PreConvolved};
 pub use profiles::Profile;
 
 /// Largest band limit: `M` is dense, `(L + 1)^2` square (ISD uses `L <= 31`, Table I).

@@ -1,16 +1,23 @@
 //! Lights with analytic SH coefficients, spatial gradients and Hessians (SHH).
 //!
-//! - [`spherical`]: spherical lights of uniform radiance, SHH (2)-(8), (15), (20);
-//! - [`grid`]: the error metric SHH (21)-(22), Hermite interpolation, the occupancy octree
-//!   and adaptive grids (SHH Sec. 5, Fig. 2);
-//! - [`source`]: the light field at a shading point and the lights a grid can hold.
+//! - [`SphericalLights`]: spherical lights of uniform radiance, SHH (2)-(8), (15), (20);
+//! - [`PolygonalLights`]: uniform polygonal lights, SHG (4)-(18);
+//! - [`LightGrid`]: the error metric SHH (21)-(22) ([`Metric`]), Hermite interpolation,
+//!   the occupancy octree and adaptive grids (SHH Sec. 5, Fig. 2);
+//! - [`LightField`], [`LightSource`]: the light field at a shading point and the lights a
+//!   grid can hold.
 
-pub mod grid;
-pub mod polygon;
-pub mod source;
-pub mod spherical;
+pub(crate) mod grid;
+pub(crate) mod polygon;
+pub(crate) mod source;
+pub(crate) mod spherical;
 
-pub use grid::{Interpolation, LightGrid, Metric, Refinement};
-pub use polygon::{PolygonalLight, PolygonalLights};
+pub use grid::{
+    hermite_weights, max_abs_eigenvalue, serendipity_weights, Interpolation, Lattice, LightGrid,
+    Metric, OccupancyOctree, PointError, Refinement, MAX_LEVEL,
+};
+pub use polygon::{
+    BandLobes, PolygonalLight, PolygonalLights, ZonalFactorization, GEOMETRY_TOLERANCE,
+};
 pub use source::{LightField, LightSource, Order};
-pub use spherical::{SphericalLight, SphericalLights};
+pub use spherical::{cap_of, cap_zonal, half_angle, SphericalLight, SphericalLights};

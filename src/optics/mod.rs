@@ -13,8 +13,8 @@
 //! | [`PolarizedPlastic`], [`Conductor`] | complete models | |
 //! | [`Material`] | PF Table 1 | PF Table 1 |
 //! | [`LinearPolarizer`], [`malus_law`] | ideal linear polarizer, Malus's law | PF (8), Sec. 2.3 |
-//! | [`filter`] | the polarizing filter function: `psi`, `Omega_IOR`, `psi_D`, `psi~_C`, `Omega`, filter angle; `R_0 -> n`, Schlick | PF (4), (10)-(18), Listings 1-4; `proofs/polarizing-filter.md` |
-//! | [`filter_table`] | `psi`, `psi~` and their error for every material of Table 1 | PF Fig. 3, Fig. 5 |
+//! | [`psi`], [`omega_ior`], [`psi_dielectric`], [`psi_conductor_approx`], [`omega`], [`filter_angle`]; [`ior_from_r0`], [`schlick`] | the polarizing filter function: `psi`, `Omega_IOR`, `psi_D`, `psi~_C`, `Omega`, filter angle; `R_0 -> n`, Schlick | PF (4), (10)-(18), Listings 1-4; `proofs/polarizing-filter.md` |
+//! | [`psi_curves`], [`error_summary`] | `psi`, `psi~` and their error for every material of Table 1 | PF Fig. 3, Fig. 5 |
 //!
 //! Conventions (derivations in `proofs/optics.md`):
 //! - Shading frame: the normal is `+z`; `w_i` points from the surface towards the light's
@@ -29,8 +29,8 @@
 //!   With this choice the map-file conversion `(s0, s1, -s2, -s3)` of `docs/conventions.md`
 //!   is also physically right for `s3` (Mitsuba 3 defines `s3` the same way).
 
-pub mod filter;
-pub mod filter_table;
+pub(crate) mod filter;
+pub(crate) mod filter_table;
 mod fresnel;
 mod ggx;
 mod ior;
@@ -40,6 +40,14 @@ mod microfacet;
 mod models;
 mod polarizer;
 
+pub use filter::{
+    beta_approx, filter_angle, gamma_approx, ior_from_r0, mueller_filtered_reflection, omega,
+    omega_ior, psi, psi_approx, psi_conductor_approx, psi_dielectric, schlick, Incidence,
+};
+pub use filter_table::{
+    error_summary, metalness, psi_curves, sample_degrees, ErrorSummary, MaxError, PsiCurve,
+    SpecularSource, ERROR_LIMITS_DEGREES, SAMPLES, STEP_DEGREES,
+};
 pub use fresnel::{fresnel, specular_reflection, FresnelCoefficients};
 pub use ggx::{Ggx, MAX_ROUGHNESS, MIN_ROUGHNESS};
 pub use ior::ComplexIor;

@@ -33,7 +33,7 @@ pub fn builtin_scene(lmax: usize, width: usize, height: usize) -> Result<Scene> 
 /// The built-in scene's geometry and camera with nothing polarized: depolarizing
 /// Lambertian materials (grey ground, red and gold-coloured spheres, gold-coloured torus)
 /// under the sky's intensity `s0` alone (band limit `lmax`); the planner's scalar case
-/// ([`super::plan`]).
+/// ([`super::Plan`]).
 pub fn builtin_unpolarized_scene(lmax: usize, width: usize, height: usize) -> Result<Scene> {
     let sky = RayleighSky::new(35f64.to_radians(), 2.4)?
         .project(lmax)?

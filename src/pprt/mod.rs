@@ -2,29 +2,40 @@
 //! under a polarized environment, per-vertex transfer with triple-product shadows,
 //! runtime evaluation in the camera's frames, pictures and a report.
 //!
-//! | module | what | source |
+//! | items | what | source |
 //! |---|---|---|
-//! | [`mesh`] | triangle meshes: procedural, OBJ | |
-//! | [`sky`] | analytic Rayleigh sky with a sun | Chandrasekhar §17 |
-//! | [`reflected`] | high orders by convolution at the reflected direction | PSH Sec. 7 |
-//! | [`scene`] | materials, camera, BVH ray queries | |
+//! | [`Mesh`] | triangle meshes: procedural, OBJ | |
+//! | [`RayleighSky`] | analytic Rayleigh sky with a sun | Chandrasekhar §17 |
+//! | [`reflected_pbrdf`], [`reflected_radiance`] | high orders by convolution at the reflected direction | PSH Sec. 7 |
+//! | [`Scene`], [`SceneMaterial`], [`Camera`] | materials, camera, BVH ray queries | |
 //! | [`TransferSettings`], [`Planning`] | what a precomputation is asked to do, how much the plan may drop | |
-//! | [`plan`] | what a scene needs: Stokes components, visibility, storage, high orders | PSH (41), (52)-(56) |
-//! | [`transfer`] | visibility, PSH (54)-(56), (35)-(37), (41) per vertex | PSH Sec. 7 |
-//! | [`render`] | runtime frame, camera frames, polarizer images | PSH (14), (30) |
-//! | [`mod@reference`] | quasi-Monte Carlo reference renderer in explicit frames | PSH (39) |
-//! | [`builtin`] | the built-in scenes | |
+//! | [`Plan`], [`Reason`] | what a scene needs: Stokes components, visibility, storage, high orders | PSH (41), (52)-(56) |
+//! | [`precompute_planned`], [`VertexTransfer`] | visibility, PSH (54)-(56), (35)-(37), (41) per vertex | PSH Sec. 7 |
+//! | [`render_frame`], [`StokesImage`] | runtime frame, camera frames, polarizer images | PSH (14), (30) |
+//! | [`Reference`] | quasi-Monte Carlo reference renderer in explicit frames | PSH (39) |
+//! | [`builtin_scene`] | the built-in scenes | |
 
-pub mod builtin;
-pub mod mesh;
-pub mod plan;
-pub mod reference;
-pub mod reflected;
-pub mod render;
-pub mod scene;
+pub(crate) mod builtin;
+pub(crate) mod mesh;
+pub(crate) mod plan;
+pub(crate) mod reference;
+pub(crate) mod reflected;
+pub(crate) mod render;
+pub(crate) mod scene;
 pub(crate) mod settings;
-pub mod sky;
-pub mod transfer;
+pub(crate) mod sky;
+pub(crate) mod transfer;
 
-pub use plan::{Plan, Reason};
+pub use builtin::{builtin_scene, builtin_unpolarized_scene};
+pub use mesh::Mesh;
+pub use plan::{tangent_plane_visibility, MaterialPlan, Plan, Reason, StokesEvidence};
+pub use reference::{Fidelity, Reference, ReferenceSettings, Workspace};
+pub use reflected::{high_order_kernel, reflected_pbrdf, reflected_radiance};
+pub use render::{background, primary_hits, render_frame, vertex_stokes, StokesImage};
+pub use scene::{Camera, EnvironmentSource, Hit, Scene, SceneMaterial, SceneObject};
 pub use settings::{Planning, TransferSettings, Visibility};
+pub use sky::RayleighSky;
+pub use transfer::{
+    high_order_fields, precompute, precompute_planned, ray_visibility, VertexTransfer,
+    VisibilityRays,
+};

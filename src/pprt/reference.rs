@@ -384,7 +384,7 @@ impl<'a> Reference<'a> {
 
     /// The image through the pixels' primary hits (shading point and normal interpolated
     /// with the hit's barycentric coordinates, the light towards the camera in its frames,
-    /// as [`super::render`]); pixels without a hit see the integrand's environment.
+    /// as [`super::render_frame`]); pixels without a hit see the integrand's environment.
     /// Error: `hits` not one per pixel of the scene's camera ([`super::render::primary_hits`]).
     pub fn render(&self, hits: &[Option<Hit>]) -> Result<StokesImage> {
         let cam = self.scene.camera();

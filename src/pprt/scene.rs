@@ -162,7 +162,7 @@ pub struct Hit {
 }
 
 /// Where the scene's environment comes from, for the reference renderer
-/// ([`super::reference`]): PPRT uses its band-limited coefficients.
+/// ([`super::Reference`]): PPRT uses its band-limited coefficients.
 #[derive(Clone, Debug)]
 pub enum EnvironmentSource {
     /// The analytic sky, evaluated exactly.

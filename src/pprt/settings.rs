@@ -21,7 +21,7 @@ pub struct TransferSettings {
     /// Band limit of the transfer (`l <= l_low`).
     pub l_low: usize,
     /// Band limit of the high orders by convolution (`l_low < l <= l_high`; none when
-    /// `l_high` is `l_low` or 0), [`super::reflected`].
+    /// `l_high` is `l_low` or 0), [`super::reflected_radiance`].
     pub l_high: usize,
     /// Visibility rays per vertex (quasi-uniform Fibonacci directions).
     pub rays: usize,

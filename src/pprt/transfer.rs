@@ -94,7 +94,7 @@ pub fn precompute(scene: &Scene, settings: TransferSettings) -> Result<Vec<Vec<V
     precompute_planned(scene, &Plan::new(scene, settings, Planning::Full)?, &Silent)
 }
 
-/// The transfer as `plan` says ([`super::plan`]): its Stokes components, its visibility and
+/// The transfer as `plan` says ([`super::Plan`]): its Stokes components, its visibility and
 /// its sparse material operators, reporting the vertices done to `progress` (stage
 /// "precompute"). Error: a plan
 /// of another scene (another number of materials).
@@ -171,7 +171,7 @@ pub fn precompute_planned(
     transfer
 }
 
-/// The high orders per material ([`super::reflected`], [`Planning::Full`]): the environment
+/// The high orders per material ([`super::reflected_radiance`], [`Planning::Full`]): the environment
 /// convolved with the kernel of the material's reflected pBRDF over the bands
 /// `l_low < l <= l_high` (RGB); `None` for every material when `l_high <= l_low`. Error: an
 /// environment below `l_high`.

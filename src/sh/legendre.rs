@@ -353,7 +353,7 @@ impl Legendre {
     ///
     /// The `N` recursions run in lock step (independent chains keep the FPU pipelines
     /// full and vectorize). The exponent bookkeeping of the scaled recursion is done once
-    /// per block of [`LANE_BLOCK`] steps instead of at every step: within a block a value
+    /// per block of `LANE_BLOCK` steps instead of at every step: within a block a value
     /// grows by at most `a_lm^16 < 2^200`, far inside the `2^423` head room above `BIG`.
     /// `scratch` holds the column (resized to `lmax + 1` rows; reuse it across calls).
     pub fn for_each_column_lanes<const N: usize>(

@@ -10,26 +10,37 @@
 mod double_double;
 pub(crate) mod gaunt;
 pub(crate) mod gaunt_table;
-pub mod grid;
-pub mod harmonics;
-pub mod legendre;
-pub mod pixel;
-pub mod solid;
-pub mod transform;
-pub mod wigner;
+pub(crate) mod grid;
+pub(crate) mod harmonics;
+pub(crate) mod legendre;
+pub(crate) mod pixel;
+pub(crate) mod solid;
+pub(crate) mod transform;
+pub(crate) mod wigner;
 pub(crate) mod wigner3j;
-pub mod zonal;
+pub(crate) mod zonal;
 
 pub use gaunt::{gaunt, gaunt_product, real_gaunt};
 pub use gaunt_table::{GauntBasis, GauntEntry, GauntTable, MAX_TABLE_DEGREE};
 pub use grid::{GaussLegendre, SphereGrid};
 pub use harmonics::{real_from_complex, sh_complex, sh_real, ShEvaluator};
-pub use legendre::{legendre_all, legendre_polynomials, zonal_legendre, Legendre};
-pub use solid::{sh_derivatives, SolidHarmonics};
+pub use legendre::{
+    for_each_column_accurate, legendre_all, legendre_polynomials, tri_index, zonal_legendre,
+    Legendre, Polar,
+};
+pub use pixel::{project_real, project_real_channels};
+pub use solid::{
+    hessian_index, sh_derivatives, Derivatives, SolidHarmonics, HESSIAN_ENTRIES, SOLID_MAX_DEGREE,
+};
 pub use transform::ShTransform;
-pub use wigner::{RealWignerD, WignerD};
+pub use wigner::{
+    for_each_block, real_block, rotate_z_complex, rotate_z_real, small_d_block, small_d_column,
+    RealWignerD, SmallDRecursion, WignerD,
+};
 pub use wigner3j::{wigner_3j, wigner_3j_row, wigner_3j_row_into, Wigner3jRow, MAX_GAUNT_DEGREE};
-pub use zonal::{funk_hecke, rotated_zonal_complex, rotated_zonal_real, zonal_coefficients};
+pub use zonal::{
+    funk_hecke, rotated_zonal_complex, rotated_zonal_real, zonal_coefficients, ZonalCoefficients,
+};
 
 use crate::error::{Error, Result};
 

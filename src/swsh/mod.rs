@@ -1,6 +1,6 @@
 //! Spin-weighted spherical harmonics `sY_lm` (PSH Sec. 6.1).
 //!
-//! For spin `s` and `|s| <= l`, with the Wigner small d of [`crate::sh::wigner`]:
+//! For spin `s` and `|s| <= l`, with the Wigner small d of [`crate::sh::WignerD`]:
 //!
 //! `sY_lm(theta, phi) = (-1)^s sqrt((2l+1)/(4 pi)) d^l_{m,-s}(theta) e^{i m phi}`
 //!

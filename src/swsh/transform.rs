@@ -124,7 +124,7 @@ impl SpinTransform {
     }
 
     /// Spin-`s` transform on a given grid (checked to resolve `lmax`). `1 <= |s| <= lmax`
-    /// (spin 0 is the scalar transform of [`crate::sh::transform`]).
+    /// (spin 0 is the scalar transform of [`crate::sh::ShTransform`]).
     pub fn with_grid(spin: i64, lmax: usize, grid: SphereGrid) -> Result<Self> {
         let eval = SpinEvaluator::new(spin, lmax)?;
         grid.check_band_limit(lmax)?;

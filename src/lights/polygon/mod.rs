@@ -8,18 +8,20 @@
 //! - [`clip`]: clipping against the horizon of a shading point;
 //! - [`cubature`]: SHG (4) as an area integral by Gauss-Legendre rules on the planar
 //!   light, for small lights (where the boundary sums cancel) and for the reference;
-//! - [`mod@reference`]: adaptive quadrature over the planar light, the independent oracle;
+//! - `reference`: adaptive quadrature over the planar light, the independent oracle
+//!   (feature `verify`);
 //!
 //! A light is a planar, convex polygon (vertices in order, at least 3) of uniform
 //! radiance `E`, emitting on both sides. Seen from `x` it covers the spherical polygon
 //! `Q(x)`; `L_lm(x) = E int_Q Y_lm` (SHG (4)). With a horizon normal `n` the polygon is
 //! first clipped to `n . (y - x) >= 0`. Derivations: `proofs/polygon-lights.md`.
 
-pub mod boundary;
-pub mod clip;
-pub mod cubature;
-pub mod reference;
-pub mod zonal_factorization;
+pub(crate) mod boundary;
+pub(crate) mod clip;
+pub(crate) mod cubature;
+#[cfg(any(test, feature = "verify"))]
+pub(crate) mod reference;
+pub(crate) mod zonal_factorization;
 
 use crate::error::{finite, Error, Result};
 use crate::lights::source::{LightField, Order};
@@ -27,7 +29,7 @@ use crate::sh::num_coeffs;
 use boundary::{cross, dot, norm, triangle_solid_angle, Arc};
 use clip::{clip_to_horizon, ClippedPolygon};
 use cubature::{is_small, SmallLights};
-use zonal_factorization::ZonalFactorization;
+pub use zonal_factorization::{BandLobes, ZonalFactorization};
 
 /// Relative tolerance of the planarity and convexity checks and of "on the plane".
 pub const GEOMETRY_TOLERANCE: f64 = 1e-10;
@@ -245,8 +247,8 @@ impl PolygonalLights {
 
     /// The summed light field at `x`: coefficients SHG (4)-(5) and, for
     /// [`Order::Gradients`], their gradients in `x` (SHG (6), (11), (15)); lights small
-    /// for the band limit ([`cubature::SMALL_LIGHT`]) by the fixed area rule of
-    /// [`SmallLights`] instead. Hessians are not derived for polygonal lights:
+    /// for the band limit (`cubature::SMALL_LIGHT`) by the fixed area rule of
+    /// `SmallLights` instead. Hessians are not derived for polygonal lights:
     /// [`Order::Hessians`] is an error.
     pub fn field(&self, x: [f64; 3], order: Order) -> Result<LightField> {
         if order == Order::Hessians {
