@@ -1,6 +1,7 @@
 //! Files: polarized maps as EXR (one file per Stokes component) and as PNG pictures,
 //! PSH coefficient vectors and pBRDF matrices as polarsh-compatible `.npz`, convolution
-//! kernels as CSV, OBJ meshes and TOML scene files ([`load_scene`], feature `render`): formats only.
+//! kernels as CSV, OBJ meshes and TOML scene files ([`load_scene`], feature `render`):
+//! formats only.
 //!
 //! **Stored frames.** Map files store each texel's components as Mitsuba 3 measures them
 //! (the convention of the shared data, `docs/conventions.md`): in the frame `[x, -y, -w]`
