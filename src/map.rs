@@ -55,6 +55,21 @@ impl MapLayout {
         }
     }
 
+    /// PSH coefficients of `l <= lmax` of images on this layout (one slice of texels per
+    /// channel, row-major, components in [`Self::frame_field`]), for the components of
+    /// `codomain`: by [`project_image`], for cube crosses by [`project_cube_map`].
+    pub fn project(
+        &self,
+        channels: &[&[[f64; 4]]],
+        codomain: Codomain,
+        lmax: usize,
+    ) -> Result<PshVector> {
+        match self {
+            Self::CubeCross(g) => project_cube_map(g, channels, codomain, lmax),
+            Self::Equirect(g) => project_image(g, &self.frame_field(), channels, codomain, lmax),
+        }
+    }
+
     /// psh's frame field of the layout.
     pub fn frame_field(&self) -> MapFrameField {
         match self {
@@ -177,10 +192,7 @@ impl StokesMap {
     /// `codomain`.
     pub fn project(&self, codomain: Codomain, lmax: usize) -> Result<PshVector> {
         let refs: Vec<&[[f64; 4]]> = self.channels.iter().map(|c| c.as_slice()).collect();
-        match &self.layout {
-            MapLayout::CubeCross(g) => project_cube_map(g, &refs, codomain, lmax),
-            MapLayout::Equirect(g) => project_image(g, &self.frame_field(), &refs, codomain, lmax),
-        }
+        self.layout.project(&refs, codomain, lmax)
     }
 }
 

@@ -167,7 +167,7 @@ material = "gold"
         (settings.l_low, settings.rays, settings.shadows()),
         (3, 32, true)
     );
-    let report = render_job(
+    let (report, image) = render_job(
         &scene,
         settings,
         Planning::Tolerance(1e-3),
@@ -177,6 +177,17 @@ material = "gold"
     )
     .unwrap();
     assert_eq!(report.counts.primary_rays, 1200);
+    // The returned image is the one rendered: every pixel, three finite channels.
+    assert_eq!(
+        (image.width * image.height, image.channels.len()),
+        (1200, 3)
+    );
+    assert!(image
+        .channels
+        .iter()
+        .flatten()
+        .flatten()
+        .all(|x| x.is_finite()));
     // The plan says why it keeps or drops each part.
     assert!(report.plan.reasons.len() >= 2);
     for f in [

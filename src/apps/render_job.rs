@@ -16,114 +16,53 @@ use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+/// The scene and settings of a render job: the TOML scene file `scene` (its settings),
+/// or the built-in scene at `size` (width, height) with the default settings; `l_low`,
+/// `l_high` and `rays` override them where given, `shadows = false` turns visibility off.
+/// Returns also the scene's name for messages.
+pub fn job_scene(
+    scene: Option<&Path>,
+    size: (usize, usize),
+    l_low: Option<usize>,
+    l_high: Option<usize>,
+    rays: Option<usize>,
+    shadows: bool,
+) -> Result<(Scene, TransferSettings, String)> {
+    let (scene, file_settings, name) = match scene {
+        Some(path) => {
+            let lmax = l_high.unwrap_or(0).max(l_low.unwrap_or(0));
+            let (scene, settings) = crate::io::load_scene(path, lmax)?;
+            (scene, settings, path.display().to_string())
+        }
+        None => {
+            let settings = TransferSettings::default();
+            let lmax = l_high
+                .unwrap_or(settings.l_high)
+                .max(l_low.unwrap_or(settings.l_low));
+            let scene = crate::pprt::builtin_scene(lmax, size.0, size.1)?;
+            (scene, settings, "the built-in scene".to_string())
+        }
+    };
+    let settings = TransferSettings {
+        l_low: l_low.unwrap_or(file_settings.l_low),
+        l_high: l_high.unwrap_or(file_settings.l_high),
+        rays: rays.unwrap_or(file_settings.rays),
+        visibility: if shadows {
+            file_settings.visibility
+        } else {
+            Visibility::Off
+        },
+    };
+    Ok((scene, settings, name))
+}
+
 /// Renders `scene` with `settings` into `out` (created), planned as `planning` says
 /// ([`Plan::new`]): `render_s{0..3}.exr` (components
 /// in the camera's frames, [`crate::pprt::render_frame`]), `render_{s0,s1,s2,s3,dop,aop}.png`,
 /// `polarizer_{deg}.png` for each angle in `polarizers` (degrees from image-right towards
 /// image-up) and `report.json` (with the plan), reporting the precomputation to `progress`.
-/// Returns the report.
+/// Returns the report and the rendered image.
 pub fn render_job(
-    scene: &Scene,
-    settings: TransferSettings,
-    planning: Planning,
-    polarizers: &[f64],
-    out: &Path,
-    progress: &dyn Progress,
-) -> Result<RenderReport> {
-    Ok(render_to(scene, settings, planning, polarizers, out, progress)?.0)
-}
-
-/// The ablation of PSH Figs. 20 and 21: the scene rendered [`render_job`]-style into
-/// `out/low_only` (the transfer matrices `l <= l_low`, no shadows), `out/low_shadows`
-/// (+ triple-product shadows) and `out/full` (+ the high orders by convolution up to
-/// `settings.l_high`), side by side in `out/ablation_{s0,s1,s2,s3,dop,aop}.png` (one
-/// exposure and one colour scale for the three panels, left to right), and
-/// `out/ablation.json` with each variant's settings and times. Error: `settings` without
-/// shadows or high orders (nothing to ablate).
-pub fn ablation_job(
-    scene: &Scene,
-    settings: TransferSettings,
-    polarizers: &[f64],
-    out: &Path,
-    progress: &dyn Progress,
-) -> Result<AblationReport> {
-    if !settings.shadows() || settings.l_high <= settings.l_low {
-        return Err(Error::InvalidArgument {
-            name: "ablation settings",
-            value: format!(
-                "shadows {}, l_low {}, l_high {}",
-                settings.shadows(),
-                settings.l_low,
-                settings.l_high
-            ),
-            reason: "the ablation adds shadows and high orders: shadows on and l_high > l_low"
-                .into(),
-        });
-    }
-    let variants = [
-        (
-            "low_only",
-            TransferSettings {
-                visibility: Visibility::Off,
-                l_high: 0,
-                ..settings
-            },
-        ),
-        (
-            "low_shadows",
-            TransferSettings {
-                l_high: 0,
-                ..settings
-            },
-        ),
-        ("full", settings),
-    ];
-    let mut rows = Vec::new();
-    let mut panels = Vec::new();
-    for (name, s) in variants {
-        let (report, image) = render_to(
-            scene,
-            s,
-            Planning::Full,
-            polarizers,
-            &out.join(name),
-            progress,
-        )?;
-        rows.push(AblationVariant {
-            variant: name.to_string(),
-            settings: report.settings,
-            times_s: report.times_s,
-        });
-        panels.push(image);
-    }
-    let (w, h) = (panels[0].width, panels[0].height);
-    let strip: Vec<Vec<[f64; 4]>> = (0..3)
-        .map(|c| {
-            (0..w * h * panels.len())
-                .map(|k| {
-                    let (row, col) = (k / (w * panels.len()), k % (w * panels.len()));
-                    panels[col / w].channels[c][row * w + col % w]
-                })
-                .collect()
-        })
-        .collect();
-    let pictures = write_stokes_pngs(
-        &strip,
-        &vec![true; strip[0].len()],
-        w * panels.len(),
-        h,
-        out.join("ablation"),
-    )?;
-    let report = AblationReport {
-        variants: rows,
-        pictures,
-    };
-    write_json(&out.join("ablation.json"), &report)?;
-    Ok(report)
-}
-
-/// [`render_job`], also returning the image.
-fn render_to(
     scene: &Scene,
     settings: TransferSettings,
     planning: Planning,
@@ -216,6 +155,95 @@ fn render_to(
     };
     write_json(&out.join("report.json"), &report)?;
     Ok((report, image))
+}
+
+/// The ablation of PSH Figs. 20 and 21: the scene rendered [`render_job`]-style into
+/// `out/low_only` (the transfer matrices `l <= l_low`, no shadows), `out/low_shadows`
+/// (+ triple-product shadows) and `out/full` (+ the high orders by convolution up to
+/// `settings.l_high`), side by side in `out/ablation_{s0,s1,s2,s3,dop,aop}.png` (one
+/// exposure and one colour scale for the three panels, left to right), and
+/// `out/ablation.json` with each variant's settings and times. Error: `settings` without
+/// shadows or high orders (nothing to ablate).
+pub fn ablation_job(
+    scene: &Scene,
+    settings: TransferSettings,
+    polarizers: &[f64],
+    out: &Path,
+    progress: &dyn Progress,
+) -> Result<AblationReport> {
+    if !settings.shadows() || settings.l_high <= settings.l_low {
+        return Err(Error::InvalidArgument {
+            name: "ablation settings",
+            value: format!(
+                "shadows {}, l_low {}, l_high {}",
+                settings.shadows(),
+                settings.l_low,
+                settings.l_high
+            ),
+            reason: "the ablation adds shadows and high orders: shadows on and l_high > l_low"
+                .into(),
+        });
+    }
+    let variants = [
+        (
+            "low_only",
+            TransferSettings {
+                visibility: Visibility::Off,
+                l_high: 0,
+                ..settings
+            },
+        ),
+        (
+            "low_shadows",
+            TransferSettings {
+                l_high: 0,
+                ..settings
+            },
+        ),
+        ("full", settings),
+    ];
+    let mut rows = Vec::new();
+    let mut panels = Vec::new();
+    for (name, s) in variants {
+        let (report, image) = render_job(
+            scene,
+            s,
+            Planning::Full,
+            polarizers,
+            &out.join(name),
+            progress,
+        )?;
+        rows.push(AblationVariant {
+            variant: name.to_string(),
+            settings: report.settings,
+            times_s: report.times_s,
+        });
+        panels.push(image);
+    }
+    let (w, h) = (panels[0].width, panels[0].height);
+    let strip: Vec<Vec<[f64; 4]>> = (0..3)
+        .map(|c| {
+            (0..w * h * panels.len())
+                .map(|k| {
+                    let (row, col) = (k / (w * panels.len()), k % (w * panels.len()));
+                    panels[col / w].channels[c][row * w + col % w]
+                })
+                .collect()
+        })
+        .collect();
+    let pictures = write_stokes_pngs(
+        &strip,
+        &vec![true; strip[0].len()],
+        w * panels.len(),
+        h,
+        out.join("ablation"),
+    )?;
+    let report = AblationReport {
+        variants: rows,
+        pictures,
+    };
+    write_json(&out.join("ablation.json"), &report)?;
+    Ok(report)
 }
 
 /// Writes `value` as pretty JSON to `path` (keys sorted).

@@ -840,32 +840,14 @@ fn convolve(a: &ConvolveArgs) -> psh::Result<serde_json::Value> {
 fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
     let (w, h) = (a.size.width, a.size.height);
     let polarizers = &a.polarizer;
-    let (scene, file_settings, name) = match &a.scene {
-        Some(path) => {
-            let lmax = a.l_high.unwrap_or(0).max(a.l_low.unwrap_or(0));
-            let (scene, settings) = psh::io::load_scene(path, lmax)?;
-            (scene, settings, path.display().to_string())
-        }
-        None => {
-            let settings = psh::pprt::TransferSettings::default();
-            let lmax = a
-                .l_high
-                .unwrap_or(settings.l_high)
-                .max(a.l_low.unwrap_or(settings.l_low));
-            let scene = psh::pprt::builtin_scene(lmax, w, h)?;
-            (scene, settings, "the built-in scene".to_string())
-        }
-    };
-    let settings = psh::pprt::TransferSettings {
-        l_low: a.l_low.unwrap_or(file_settings.l_low),
-        l_high: a.l_high.unwrap_or(file_settings.l_high),
-        rays: a.rays.unwrap_or(file_settings.rays),
-        visibility: if a.no_shadows {
-            psh::pprt::Visibility::Off
-        } else {
-            file_settings.visibility
-        },
-    };
+    let (scene, settings, name) = psh::apps::render_job::job_scene(
+        a.scene.as_deref(),
+        (w, h),
+        a.l_low,
+        a.l_high,
+        a.rays,
+        !a.no_shadows,
+    )?;
     eprintln!(
         "rendering {name} ({} triangles, l_low {}, l_high {}, {} rays per vertex) into {}",
         scene.triangle_count(),
@@ -889,7 +871,7 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
     } else {
         psh::pprt::Planning::Tolerance(a.tolerance)
     };
-    let report = psh::apps::render_job::render_job(
+    let (report, _) = psh::apps::render_job::render_job(
         &scene,
         settings,
         planning,

@@ -1,0 +1,262 @@
+"""Type stubs of psh, polarized spherical harmonics (Yi et al., SIGGRAPH 2024), from numpy.
+
+Conventions (docs/conventions.md): flat coefficient index ``l*l + l + m``; directions are
+unit vectors ``(x, y, z)`` with theta from +z and phi from +x towards +y; Stokes
+components ``[s0, s1, s2, s3]`` are measured in the frames of a frame field (theta-phi
+PSH (28) by default). Arrays passed in may be any array-like; float64 C-contiguous arrays
+are read without a copy. Bad values raise ``ValueError`` (or ``TypeError`` for the wrong
+type), unreadable or malformed files ``OSError``.
+"""
+
+from os import PathLike
+from typing import Callable, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+ArrayLike = npt.ArrayLike
+FloatArray = npt.NDArray[np.float64]
+ComplexArray = npt.NDArray[np.complex128]
+Path = Union[str, PathLike]
+
+class Rotation:
+    """A rotation of R^3; fields turn as ``R_F[f](w) = f(R^-1 w)`` (PSH (8))."""
+
+    @staticmethod
+    def from_rotvec(v: ArrayLike) -> Rotation:
+        """Angle ``|v|`` (radians) about ``v / |v|``; zero is the identity."""
+    @staticmethod
+    def from_quaternion(q: ArrayLike, scalar_first: bool = False) -> Rotation:
+        """A unit quaternion, ``(x, y, z, w)`` as scipy (``(w, x, y, z)`` if scalar_first)."""
+    @staticmethod
+    def from_matrix(m: ArrayLike) -> Rotation:
+        """A proper orthogonal 3 x 3 matrix (checked)."""
+    @staticmethod
+    def from_euler_zyz(alpha: float, beta: float, gamma: float) -> Rotation:
+        """``Rz(alpha) Ry(beta) Rz(gamma)``."""
+    def matrix(self) -> FloatArray:
+        """The 3 x 3 matrix."""
+    def euler_zyz(self) -> Tuple[float, float, float]:
+        """ZYZ Euler angles, beta in [0, pi]."""
+    def inverse(self) -> Rotation: ...
+    def __mul__(self, other: Rotation) -> Rotation:
+        """``a * b`` applies ``b`` first."""
+
+class FrameField:
+    """The Stokes frame assigned to each direction (PSH Sec. 5.1)."""
+
+    @staticmethod
+    def theta_phi() -> FrameField:
+        """PSH (28): x = e_theta, y = e_phi."""
+    @staticmethod
+    def cube_map() -> FrameField:
+        """Per cube face, the 90-degree camera's frame (x image-right, y image-down)."""
+    @staticmethod
+    def perspective(forward: ArrayLike, up: ArrayLike) -> FrameField:
+        """A pinhole camera's frames (x image-right, y image-down, z the pixel direction)."""
+    def frame(self, w: ArrayLike) -> FloatArray:
+        """The frame at ``w``: rows x, y, z."""
+
+class PshVector:
+    """PSH coefficients PSH (34): ``coeffs[channel, l*l + l + m, k]``, ``k`` over the
+    codomain's Stokes components (SCALAR {s0}, POLAR2 {s1, s2}, POLAR3 {s0, s1, s2},
+    POLAR4 {s0..s3}); ``argument`` "towards-source" or "travel" (polarsh's files)."""
+
+    def __init__(
+        self, coeffs: ArrayLike, codomain: str = "POLAR4", argument: str = "towards-source"
+    ) -> None: ...
+    @staticmethod
+    def read_npz(path: Path) -> PshVector:
+        """A polarsh ``.npz`` (argument "travel")."""
+    def write_npz(self, path: Path) -> None:
+        """A polarsh ``.npz`` (converted to "travel")."""
+    @staticmethod
+    def from_channels(parts: Sequence[PshVector]) -> PshVector: ...
+    @property
+    def lmax(self) -> int: ...
+    @property
+    def channels(self) -> int: ...
+    @property
+    def codomain(self) -> str: ...
+    @property
+    def components(self) -> list[int]: ...
+    @property
+    def argument(self) -> str: ...
+    @property
+    def coeffs(self) -> FloatArray:
+        """A new array ``(channels, (lmax+1)^2, components)``."""
+    def evaluate(self, dirs: ArrayLike, frames: Optional[FrameField] = None) -> FloatArray:
+        """Stokes components PSH (30) at ``dirs (..., 3)``: ``(channels, ..., 4)``."""
+    def rotated(self, rotation: Rotation) -> PshVector:
+        """PSH (35)-(37)."""
+    def converted(self, argument: str) -> PshVector: ...
+    def truncated(self, lmax: int) -> PshVector: ...
+    def channel(self, c: int) -> PshVector: ...
+    def with_codomain(self, codomain: str) -> PshVector: ...
+    def band_energies(self) -> FloatArray: ...
+
+def sh_real(lmax: int, dirs: ArrayLike) -> FloatArray:
+    """Real SH PSH (12): ``(..., (lmax+1)^2)``."""
+
+def sh_complex(lmax: int, dirs: ArrayLike) -> ComplexArray:
+    """Complex SH PSH (1): ``(..., (lmax+1)^2)``."""
+
+def swsh(spin: int, lmax: int, dirs: ArrayLike) -> ComplexArray:
+    """Spin-weighted SH PSH (26)-(27): ``(..., (lmax+1)^2)``, zero where l < |spin|."""
+
+def wigner_d(rotation: Rotation, lmax: int) -> list[ComplexArray]:
+    """``D^l_{m m'}`` PSH (9) per degree, ``(2l+1, 2l+1)``, rows m, columns m'."""
+
+def wigner_d_real(rotation: Rotation, lmax: int) -> list[FloatArray]:
+    """Real Wigner blocks PSH (13) per degree, ``(2l+1, 2l+1)``."""
+
+def read_stokes_map(pattern: Path) -> FloatArray:
+    """EXR files (``%d`` for 0..3): ``(channels, rows, columns, 4)`` in the layout's frame
+    field (cube cross: ``FrameField.cube_map()``; equirect: ``FrameField.theta_phi()``)."""
+
+def write_stokes_map(texels: ArrayLike, pattern: Path) -> list[str]: ...
+def project_map(texels: ArrayLike, lmax: int, codomain: str = "POLAR4") -> PshVector:
+    """PSH (32) of a cube cross ``3e x 4e`` or equirect ``H x 2H`` map."""
+
+def reconstruct_map(vector: PshVector, rows: int, columns: int) -> FloatArray:
+    """PSH (30) on a cube cross or equirect layout: ``(channels, rows, columns, 4)``."""
+
+def reconstruct_perspective(
+    vector: PshVector,
+    forward: ArrayLike,
+    up: ArrayLike,
+    fov_y: float,
+    width: int,
+    height: int,
+) -> FloatArray:
+    """PSH (30) at a pinhole camera's pixels, camera frames: ``(channels, height, width, 4)``."""
+
+class ConvolutionKernel:
+    """``k(theta)``, 4 x 4 (PSH (61)-(62))."""
+
+    @staticmethod
+    def from_table(theta: ArrayLike, values: ArrayLike) -> ConvolutionKernel:
+        """``theta (n,)`` from 0 to pi, ``values (n, 4, 4)``, linear interpolation."""
+    @staticmethod
+    def from_callable(f: Callable[[float], ArrayLike]) -> ConvolutionKernel: ...
+    @staticmethod
+    def linear_zenith() -> ConvolutionKernel: ...
+    @staticmethod
+    def read_csv(path: Path) -> ConvolutionKernel: ...
+    def value(self, theta: float) -> FloatArray: ...
+    def coefficients(self, lmax: int) -> KernelCoefficients:
+        """``G_l`` PSH (68a)-(68e)."""
+
+class KernelCoefficients:
+    """Convolution coefficients; ``convolve`` is PSH (69a)-(69c)."""
+
+    @staticmethod
+    def from_real_form(g: ArrayLike) -> KernelCoefficients: ...
+    @property
+    def lmax(self) -> int: ...
+    @property
+    def error_estimate(self) -> float: ...
+    def real_form(self) -> FloatArray:
+        """``(lmax+1, 4, 4)``."""
+    def synthesize(self, theta: float) -> FloatArray: ...
+    def convolve(self, f: PshVector) -> PshVector: ...
+
+class Conductor:
+    """GGX microfacet conductor (PF Table 1 material at a channel, or ``n + i k``)."""
+
+    def __init__(
+        self,
+        alpha: float,
+        material: Optional[str] = None,
+        channel: str = "red",
+        n: Optional[float] = None,
+        k: Optional[float] = None,
+    ) -> None: ...
+
+class PolarizedPlastic:
+    """GGX dielectric specular of index ``n`` over a Lambertian base of ``albedo``."""
+
+    def __init__(self, alpha: float, n: float, albedo: float) -> None: ...
+
+class PshMatrix:
+    """PSH (40): entries ``[j_o, j_i, p_o, p_i]``."""
+
+    @staticmethod
+    def from_data(
+        data: ArrayLike, input: str = "towards-source", output: str = "travel"
+    ) -> PshMatrix: ...
+    @property
+    def lmax(self) -> int: ...
+    @property
+    def input(self) -> str: ...
+    @property
+    def output(self) -> str: ...
+    @property
+    def data(self) -> FloatArray:
+        """``(n, n, 4, 4)``."""
+    def apply(self, f: PshVector) -> PshVector:
+        """PSH (41)."""
+    def rotated(self, rotation: Rotation) -> PshMatrix: ...
+    def with_input(self, input: str) -> PshMatrix: ...
+    def truncated(self, lmax: int) -> PshMatrix: ...
+
+class IsotropicMatrix:
+    """Isotropic pBRDF matrices in polarsh's ISOBI2 layout, one per channel."""
+
+    @staticmethod
+    def read_npz(path: Path) -> IsotropicMatrix: ...
+    def write_npz(self, path: Path) -> None: ...
+    @staticmethod
+    def from_dense(m: PshMatrix, tolerance: float = 1e-12) -> IsotropicMatrix: ...
+    @staticmethod
+    def from_channels(parts: Sequence[IsotropicMatrix]) -> IsotropicMatrix: ...
+    @property
+    def lmax(self) -> int: ...
+    @property
+    def channels(self) -> int: ...
+    @property
+    def input(self) -> str: ...
+    @property
+    def output(self) -> str: ...
+    def blocks(self) -> FloatArray:
+        """``(channels, len(isotropic_pairs(lmax)), 4, 4)``."""
+    def to_dense(self, c: int) -> PshMatrix: ...
+    def with_input(self, input: str) -> IsotropicMatrix: ...
+    def apply(self, f: PshVector) -> PshVector: ...
+
+def isotropic_pairs(lmax: int) -> list[Tuple[int, int]]:
+    """The ``(j_o, j_i)`` entries the isotropic layout stores, in its order."""
+def project_pbrdf(
+    model: Union[Conductor, PolarizedPlastic],
+    lmax: int,
+    grid_lmax: Optional[int] = None,
+    block: str = "complex-pair",
+) -> PshMatrix:
+    """PSH (40) of a model (surface normal +z)."""
+
+class TripleTable:
+    """Couplings of PSH (54)-(56)."""
+
+    def __init__(self, lv: int, lmax: int, codomain: str = "POLAR4") -> None: ...
+    def transfer(self, v: PshVector) -> PshMatrix: ...
+    def shadow(self, v: PshVector, f: PshVector) -> PshVector: ...
+
+def visibility_transfer(v: PshVector, lmax: int) -> PshMatrix: ...
+def render(
+    scene: Optional[Path] = None,
+    out: Path = "psh-out",
+    width: int = 480,
+    height: int = 360,
+    l_low: Optional[int] = None,
+    l_high: Optional[int] = None,
+    rays: Optional[int] = None,
+    shadows: bool = True,
+    tolerance: Optional[float] = 1e-3,
+    polarizers: Sequence[float] = (0.0, 45.0, 90.0, 135.0),
+) -> Tuple[FloatArray, dict]:
+    """PPRT (PSH Sec. 7): ``(stokes (3, height, width, 4), report)``."""
+
+def verify(filter: Optional[str] = None) -> list[dict]:
+    """The checks of ``psh verify`` whose id contains ``filter``."""

@@ -1,0 +1,81 @@
+//! numpy arrays in and out: inputs become C-contiguous float64 (no copy when they already
+//! are) and are read in place; outputs are new arrays that own the crate's results.
+
+use crate::errors::bad;
+use numpy::ndarray::{ArrayD, IxDyn};
+use numpy::prelude::*;
+use numpy::{IntoPyArray, PyArrayDyn, PyReadonlyArrayDyn};
+use pyo3::prelude::*;
+
+/// `obj` as a read-only C-contiguous float64 array (numpy.ascontiguousarray: no copy for
+/// an array that already is one).
+pub fn f64_array<'py>(obj: &Bound<'py, PyAny>) -> PyResult<PyReadonlyArrayDyn<'py, f64>> {
+    let py = obj.py();
+    let np = py.import("numpy")?;
+    let kwargs = pyo3::types::PyDict::new(py);
+    kwargs.set_item("dtype", np.getattr("float64")?)?;
+    let a = np.call_method("ascontiguousarray", (obj,), Some(&kwargs))?;
+    let a = a.cast_into::<PyArrayDyn<f64>>()?;
+    Ok(a.readonly())
+}
+
+/// The values of a contiguous array.
+pub fn slice<'a>(a: &'a PyReadonlyArrayDyn<'_, f64>) -> PyResult<&'a [f64]> {
+    a.as_slice().map_err(|e| bad("array", e))
+}
+
+/// An `(..., k)` array as rows of `k` values, with the leading shape; error naming
+/// `name` if the last axis is not `k` long.
+pub fn rows<'a, const K: usize>(
+    a: &'a PyReadonlyArrayDyn<'_, f64>,
+    name: &str,
+) -> PyResult<(Vec<usize>, &'a [[f64; K]])> {
+    let shape = a.shape();
+    if shape.last() != Some(&K) {
+        return Err(bad(name, format!("shape {shape:?}, expected (..., {K})")));
+    }
+    let flat = slice(a)?;
+    let (chunks, rest) = flat.as_chunks::<K>();
+    debug_assert!(rest.is_empty());
+    Ok((shape[..shape.len() - 1].to_vec(), chunks))
+}
+
+/// A new numpy array of `shape` owning `data` (row-major).
+pub fn owned<'py, T: numpy::Element>(
+    py: Python<'py>,
+    shape: &[usize],
+    data: Vec<T>,
+) -> PyResult<Bound<'py, PyArrayDyn<T>>> {
+    let a = ArrayD::from_shape_vec(IxDyn(shape), data).map_err(|e| bad("array shape", e))?;
+    Ok(a.into_pyarray(py))
+}
+
+/// A fixed-size vector from a 1-D array-like of `K` numbers.
+pub fn fixed<const K: usize>(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<[f64; K]> {
+    let a = f64_array(obj)?;
+    let s = slice(&a)?;
+    if a.shape() != [K] {
+        return Err(bad(name, format!("shape {:?}, expected ({K},)", a.shape())));
+    }
+    let mut out = [0.0; K];
+    out.copy_from_slice(s);
+    Ok(out)
+}
+
+/// Largest number of elements of an array this module allocates (8 GiB of float64).
+const MAX_ELEMENTS: usize = 1 << 30;
+
+/// The number of elements `product(factors)` of an output named `name`, checked before
+/// anything is allocated: overflow or more than `2^30` elements is a `ValueError`.
+pub fn checked_len(name: &str, factors: &[usize]) -> PyResult<usize> {
+    factors
+        .iter()
+        .try_fold(1usize, |n, &f| n.checked_mul(f))
+        .filter(|&n| n <= MAX_ELEMENTS)
+        .ok_or_else(|| {
+            bad(
+                name,
+                format!("{factors:?} elements would exceed the limit of {MAX_ELEMENTS}"),
+            )
+        })
+}

@@ -1,0 +1,88 @@
+//! The whole pipeline and the checks: `render` (the PPRT render job of `psh render`)
+//! and `verify` (the checks of `psh verify`).
+
+use crate::arrays::{checked_len, owned};
+use crate::errors::IntoPy;
+use numpy::PyArrayDyn;
+use psh::pprt::Planning;
+use pyo3::prelude::*;
+use pyo3::types::PyAny;
+
+/// `value` (serializable) as Python objects via JSON.
+fn to_python<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bound<'py, PyAny>> {
+    let text = serde_json::to_string(value).map_err(|e| crate::errors::bad("report", e))?;
+    py.import("json")?.call_method1("loads", (text,))
+}
+
+/// Renders a scene by precomputed polarized radiance transfer (PSH Sec. 7) into `out`
+/// (pictures, EXR files and `report.json`, as `psh render`): the TOML scene file `scene`,
+/// or the built-in scene at `width x height`; `l_low`, `l_high`, `rays` override the
+/// scene's settings, `shadows=False` turns visibility off, `tolerance` plans what the
+/// scene needs (`None`: compute everything). Returns `(stokes, report)`: the image
+/// `(3, height, width, 4)` (RGB, Stokes components in the camera's frames, row 0 at the
+/// top) and the report as a dict.
+#[pyfunction]
+#[pyo3(signature = (scene = None, out = std::path::PathBuf::from("psh-out"), width = 480, height = 360,
+    l_low = None, l_high = None, rays = None, shadows = true, tolerance = Some(1e-3),
+    polarizers = vec![0.0, 45.0, 90.0, 135.0]))]
+#[allow(clippy::too_many_arguments)]
+fn render<'py>(
+    py: Python<'py>,
+    scene: Option<std::path::PathBuf>,
+    out: std::path::PathBuf,
+    width: usize,
+    height: usize,
+    l_low: Option<usize>,
+    l_high: Option<usize>,
+    rays: Option<usize>,
+    shadows: bool,
+    tolerance: Option<f64>,
+    polarizers: Vec<f64>,
+) -> PyResult<(Bound<'py, PyArrayDyn<f64>>, Bound<'py, PyAny>)> {
+    checked_len("image", &[3, width, height, 4])?;
+    let planning = tolerance.map_or(Planning::Full, Planning::Tolerance);
+    let (report, image) = py
+        .detach(|| {
+            let (scene, settings, _) = psh::apps::render_job::job_scene(
+                scene.as_deref(),
+                (width, height),
+                l_low,
+                l_high,
+                rays,
+                shadows,
+            )?;
+            psh::apps::render_job::render_job(
+                &scene,
+                settings,
+                planning,
+                &polarizers,
+                &out,
+                &psh::progress::Silent,
+            )
+        })
+        .py_err()?;
+    let data: Vec<f64> = image.channels.iter().flatten().flatten().copied().collect();
+    let stokes = owned(
+        py,
+        &[image.channels.len(), image.height, image.width, 4],
+        data,
+    )?;
+    Ok((stokes, to_python(py, &report)?))
+}
+
+/// Runs the checks of `psh verify` whose id contains `filter` (all by default): a list
+/// of dicts with `id`, `source`, `description`, `max_error`, `tolerance`, `passed` (and
+/// `proof`, `error`, `skipped` where set).
+#[pyfunction]
+#[pyo3(signature = (filter = None))]
+fn verify<'py>(py: Python<'py>, filter: Option<String>) -> PyResult<Bound<'py, PyAny>> {
+    let results = py.detach(|| psh::verify::run(filter.as_deref()));
+    to_python(py, &results)
+}
+
+/// Adds the functions of this file to the module.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(render, m)?)?;
+    m.add_function(wrap_pyfunction!(verify, m)?)?;
+    Ok(())
+}

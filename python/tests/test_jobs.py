@@ -1,0 +1,32 @@
+"""The whole pipeline from Python: `render` (the PPRT job) and `verify` (psh's checks)."""
+
+import json
+import pathlib
+
+import numpy as np
+
+import psh
+
+
+def test_render_returns_the_image_and_the_report(tmp_path, cli):
+    stokes, report = psh.render(out=tmp_path / "py", width=24, height=18, l_low=2, l_high=4,
+                                rays=8, polarizers=[0.0, 90.0])
+    assert stokes.shape == (3, 18, 24, 4) and np.isfinite(stokes).all()
+    assert report["counts"]["primary_rays"] == 24 * 18
+    assert report["settings"]["l_low"] == 2 and report["settings"]["polarizers_deg"] == [0.0, 90.0]
+    assert json.loads((tmp_path / "py" / "report.json").read_text()) == report
+    assert all(pathlib.Path(f).is_file() for f in report["pictures"])
+    # The same job as `psh render` with the same arguments: settings, counts and plan.
+    cli("render", "--out", "cli", "--size", "24x18", "--l-low", 2, "--l-high", 4, "--rays", 8,
+        "--polarizer", 0, "--polarizer", 90)
+    ref = json.loads((tmp_path / "cli" / "report.json").read_text())
+    for key in ("settings", "counts", "plan", "high_order_projection_residual_per_material"):
+        assert report[key] == ref[key], key
+
+
+def test_verify_runs_psh_checks():
+    results = psh.verify("swsh.")
+    assert results and all(r["id"].startswith("swsh.") for r in results)
+    assert all(r["passed"] for r in results), [r for r in results if not r["passed"]]
+    assert {"id", "source", "description", "max_error", "tolerance", "passed"} <= set(results[0])
+    assert psh.verify("no-such-check") == []
