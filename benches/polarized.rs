@@ -52,6 +52,10 @@ fn psh_rotate(c: &mut Criterion) {
                 .unwrap()
         })
     });
+    // The blocks streamed one degree at a time (`psh rotate`, Python's `rotated`).
+    grp.bench_function("streamed/100", |b| {
+        b.iter(|| black_box(&v).rotated(&r).unwrap())
+    });
     grp.finish();
 }
 

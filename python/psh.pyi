@@ -5,7 +5,8 @@ unit vectors ``(x, y, z)`` with theta from +z and phi from +x towards +y; Stokes
 components ``[s0, s1, s2, s3]`` are measured in the frames of a frame field (theta-phi
 PSH (28) by default). Arrays passed in may be any array-like; float64 C-contiguous arrays
 are read without a copy. Bad values raise ``ValueError`` (or ``TypeError`` for the wrong
-type), unreadable or malformed files ``OSError``.
+type), unreadable or malformed files ``OSError``, work over psh's memory budget (4 GiB, or
+``PSH_MAX_MEMORY``) ``MemoryError``.
 """
 
 from os import PathLike

@@ -70,6 +70,15 @@ pub enum Error {
     #[error("shared data missing: {} (set PSH_DATA_DIR)", path.display())]
     DataMissing { path: PathBuf },
 
+    /// An allocation that the input asks for exceeds the memory budget
+    /// ([`crate::budget`]); `bytes` saturates at `u128::MAX`.
+    #[error("{what} needs {bytes} bytes, over the memory budget of {budget} bytes (raise it with PSH_MAX_MEMORY, e.g. 16G, or --max-memory)")]
+    MemoryBudget {
+        what: &'static str,
+        bytes: u128,
+        budget: u64,
+    },
+
     /// An I/O failure on a named file.
     #[error("I/O error on {}: {source}", path.display())]
     Io {
@@ -81,6 +90,18 @@ pub enum Error {
 
 /// `Result` with [`enum@Error`].
 pub type Result<T> = std::result::Result<T, Error>;
+
+/// Longest text taken from input (a file's string, an argument) into a message.
+pub const MAX_MESSAGE_TEXT: usize = 120;
+
+/// `text` for a message: at most [`MAX_MESSAGE_TEXT`] characters, with `...` and the
+/// total length when it is cut.
+pub fn clip(text: &str) -> String {
+    match text.char_indices().nth(MAX_MESSAGE_TEXT) {
+        None => text.to_string(),
+        Some((i, _)) => format!("{}... ({} characters)", &text[..i], text.chars().count()),
+    }
+}
 
 /// Checks that `value` is finite, naming it in the error otherwise.
 pub fn finite(name: &'static str, value: f64) -> Result<f64> {

@@ -84,6 +84,7 @@ struct ReadmeDoctests;
 
 #[cfg(feature = "apps")]
 pub mod apps;
+pub mod budget;
 pub mod error;
 pub use error::{Error, Result};
 #[cfg(feature = "exact")]

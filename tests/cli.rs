@@ -1,4 +1,4 @@
-//! The command line: JSON output of `psh eval`, one-line errors and exit codes.
+//! The command line: JSON output of `psh eval`, errors and exit codes.
 
 use std::process::Command;
 
@@ -7,6 +7,19 @@ fn psh(args: &[&str]) -> std::process::Output {
         .args(args)
         .output()
         .expect("run psh")
+}
+
+/// psh's own errors (exit 1) are one line; usage errors (exit 2) are clap's whole
+/// message: the error on its first line, then the usage or the hint to `--help`.
+fn one_line_or_usage(out: &std::process::Output, err: &str, what: &str) {
+    match out.status.code() {
+        Some(1) => assert_eq!(err.trim_end().lines().count(), 1, "{what}: {err}"),
+        Some(2) => {
+            assert!(err.starts_with("error: "), "{what}: {err}");
+            assert!(err.contains("try '--help'"), "{what}: {err}");
+        }
+        other => panic!("{what}: exit {other:?}: {err}"),
+    }
 }
 
 #[test]
@@ -93,7 +106,7 @@ fn eval_swsh_prints_spin_two_values() {
 }
 
 #[test]
-fn bad_arguments_give_one_line_errors() {
+fn bad_arguments_give_clear_errors() {
     for args in [
         &[
             "eval", "sh", "--kind", "real", "--lmax", "2", "--theta", "nan", "--phi", "0",
@@ -129,7 +142,7 @@ fn bad_arguments_give_one_line_errors() {
         let out = psh(args);
         assert!(!out.status.success(), "{args:?} succeeded");
         let err = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+        one_line_or_usage(&out, &err, &format!("{args:?}"));
         assert!(out.stdout.is_empty());
     }
 }
@@ -233,7 +246,7 @@ fn project_rotate_reconstruct_pipeline() {
 }
 
 #[test]
-fn pipeline_errors_are_one_line_with_the_path() {
+fn pipeline_errors_name_the_path() {
     let dir = std::env::temp_dir().join(format!("psh-cli-err-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let missing = dir.join("none_s%d.exr");
@@ -297,7 +310,7 @@ fn pipeline_errors_are_one_line_with_the_path() {
         };
         assert_eq!(out.status.code(), Some(code), "{args:?}");
         let err = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(err.lines().count(), 1, "{err}");
+        one_line_or_usage(&out, &err, &format!("{args:?}"));
         assert!(err.contains(what), "{args:?}: {err}");
     }
 }

@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 /// other nor anything above.
 const LAYERS: &[&[&str]] = &[
     &["error", "random", "progress"],
+    &["budget"],
     &["geometry"],
     &["sh"],
     &["swsh"],

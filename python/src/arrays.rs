@@ -1,7 +1,7 @@
 //! numpy arrays in and out: inputs become C-contiguous float64 (no copy when they already
 //! are) and are read in place; outputs are new arrays that own the crate's results.
 
-use crate::errors::bad;
+use crate::errors::{bad, IntoPy};
 use numpy::ndarray::{ArrayD, IxDyn};
 use numpy::prelude::*;
 use numpy::{IntoPyArray, PyArrayDyn, PyReadonlyArrayDyn};
@@ -62,20 +62,8 @@ pub fn fixed<const K: usize>(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<[f6
     Ok(out)
 }
 
-/// Largest number of elements of an array this module allocates (8 GiB of float64).
-const MAX_ELEMENTS: usize = 1 << 30;
-
-/// The number of elements `product(factors)` of an output named `name`, checked before
-/// anything is allocated: overflow or more than `2^30` elements is a `ValueError`.
-pub fn checked_len(name: &str, factors: &[usize]) -> PyResult<usize> {
-    factors
-        .iter()
-        .try_fold(1usize, |n, &f| n.checked_mul(f))
-        .filter(|&n| n <= MAX_ELEMENTS)
-        .ok_or_else(|| {
-            bad(
-                name,
-                format!("{factors:?} elements would exceed the limit of {MAX_ELEMENTS}"),
-            )
-        })
+/// The number of float64 elements `product(factors)` of an output named `name`, checked
+/// against psh's memory budget before anything is allocated (`MemoryError` over it).
+pub fn checked_len(name: &'static str, factors: &[usize]) -> PyResult<usize> {
+    psh::budget::check(name, factors, 8).py_err()
 }

@@ -47,7 +47,7 @@ fn complex_basis<'py>(
     let a = f64_array(dirs)?;
     let (lead, w) = rows::<3>(&a, "directions")?;
     let n = num_coeffs(lmax);
-    let mut out = vec![Complex64::default(); checked_len("SH values", &[w.len(), n])?];
+    let mut out = vec![Complex64::default(); checked_len("SH values", &[w.len(), n, 2])? / 2];
     py.detach(|| {
         out.par_chunks_mut(n)
             .zip(w.par_iter())
@@ -89,10 +89,11 @@ fn swsh<'py>(
     complex_basis(py, lmax, dirs, |t, p, o| eval.values(t, p, o))
 }
 
-/// Checks a Wigner degree limit before the `O(lmax^3)` blocks are allocated.
+/// Checks the memory of the `O(lmax^3)` blocks and their arrays before any is allocated:
+/// `sum (2l+1)^2 < (4/3) (lmax+1)^3` complex numbers twice, below `6 (lmax+1)^3` floats.
 fn wigner_size(lmax: usize) -> PyResult<()> {
     let l = lmax.saturating_add(1);
-    checked_len("Wigner D blocks", &[l, l, l]).map(|_| ())
+    checked_len("Wigner D blocks and their arrays", &[l, l, l, 6]).map(|_| ())
 }
 
 /// The complex Wigner blocks `D^l_{m m'}(R)` PSH (9), `l <= lmax`: a list of complex128

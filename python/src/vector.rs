@@ -8,7 +8,7 @@ use crate::rotation::Rotation;
 use numpy::prelude::*;
 use numpy::PyArrayDyn;
 use psh::geometry::{CubeMapFrameField, Frame, PerspectiveFrameField, ThetaPhiFrameField};
-use psh::polarized::{Codomain, FieldArgument, PshEvaluator, PshRotation};
+use psh::polarized::{Codomain, FieldArgument, PshEvaluator};
 use pyo3::prelude::*;
 use rayon::prelude::*;
 
@@ -250,14 +250,12 @@ impl PshVector {
     }
 
     /// The coefficients of the field turned by `rotation` (PSH (35)-(37): Wigner blocks
-    /// on each component, spin 2 rotating as a spin-weighted function).
+    /// on each component, spin 2 rotating as a spin-weighted function), the blocks streamed
+    /// one degree at a time.
     fn rotated(&self, py: Python<'_>, rotation: &Rotation) -> PyResult<Self> {
-        py.detach(|| {
-            PshRotation::for_codomain(&rotation.r, self.v.lmax(), self.v.codomain())?
-                .rotate(&self.v)
-        })
-        .py_err()
-        .map(Self::wrap)
+        py.detach(|| self.v.rotated(&rotation.r))
+            .py_err()
+            .map(Self::wrap)
     }
 
     /// The same field under the other argument convention (`"travel"` or

@@ -1,5 +1,6 @@
-"""Bad input raises a Python exception with psh's message; it never crashes the
-interpreter, returns NaN or allocates without bound."""
+"""Bad input raises a Python exception with psh's message (ValueError, OSError, or
+MemoryError over psh's memory budget); it never crashes the interpreter, returns NaN or
+allocates without bound."""
 
 import numpy as np
 import pytest
@@ -13,11 +14,11 @@ CASES = [
     (lambda: psh.sh_real(3, [[0, 0, 2.0]]), ValueError, "unit"),
     (lambda: psh.sh_real(3, [[0, 0, 1.0, 0]]), ValueError, r"\(\.\.\., 3\)"),
     (lambda: psh.sh_real(10**6, [[0, 0, 1.0]]), ValueError, "degree"),
-    (lambda: psh.sh_real(8000, np.zeros((10**6, 3)) + [0, 0, 1.0]), ValueError, "limit"),
+    (lambda: psh.sh_real(8000, np.zeros((10**6, 3)) + [0, 0, 1.0]), MemoryError, "memory budget"),
     (lambda: psh.sh_real(-1, [[0, 0, 1.0]]), OverflowError, None),
     (lambda: psh.sh_real(3, "north"), ValueError, None),
     (lambda: psh.swsh(7, 3, [[0, 0, 1.0]]), ValueError, "spin"),
-    (lambda: psh.wigner_d(psh.Rotation.from_rotvec([0, 0, 1.0]), 10**5), ValueError, "limit"),
+    (lambda: psh.wigner_d(psh.Rotation.from_rotvec([0, 0, 1.0]), 10**5), MemoryError, "memory budget"),
     (lambda: psh.Rotation.from_quaternion([0, 0, 0, 2.0]), ValueError, "norm"),
     (lambda: psh.Rotation.from_quaternion([0, 0, 0]), ValueError, r"\(4,\)"),
     (lambda: psh.Rotation.from_matrix(np.diag([1.0, 1.0, -1.0])), ValueError, None),
@@ -41,7 +42,7 @@ CASES = [
     (lambda: psh.project_map(np.full((1, 8, 16, 4), np.nan), 3), ValueError, "finite"),
     (lambda: psh.project_map(np.zeros((8, 16, 4)), 3), ValueError, "shape"),
     (lambda: psh.reconstruct_map(V, 10, 13), ValueError, "cube cross"),
-    (lambda: psh.reconstruct_map(V, 2**20, 2**21), ValueError, "limit"),
+    (lambda: psh.reconstruct_map(V, 2**20, 2**21), MemoryError, "memory budget"),
     (lambda: psh.reconstruct_perspective(V, [0, 1.0, 0], [0, 1.0, 0], 1.0, 4, 4), ValueError, None),
     (lambda: psh.reconstruct_perspective(V, [0, 1.0, 0], [0, 0, 1.0], 4.0, 4, 4), ValueError, "fov"),
     (lambda: psh.ConvolutionKernel.from_table([0, 1.0], np.zeros((2, 4, 4))), ValueError, "pi"),
@@ -59,7 +60,7 @@ CASES = [
     (lambda: psh.TripleTable(10**4, 10**4), ValueError, None),
     (lambda: psh.PshMatrix.from_data(np.zeros((9, 8, 4, 4))), ValueError, "shape"),
     (lambda: psh.render(scene="/nonexistent/scene.toml"), OSError, "nonexistent"),
-    (lambda: psh.render(width=10**6, height=10**6), ValueError, "limit"),
+    (lambda: psh.render(width=10**6, height=10**6), MemoryError, "memory budget"),
 ]
 
 

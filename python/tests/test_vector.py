@@ -124,3 +124,15 @@ def test_rotation_equals_the_command_line(cli, data, tmp_path):
     got = v.rotated(psh.Rotation.from_rotvec([0.3, -1.1, 0.7]))
     assert got.argument == ref.argument == "travel"
     assert np.array_equal(got.coeffs, ref.coeffs)
+
+
+def test_fortran_ordered_files_are_read_in_their_order(tmp_path):
+    """numpy writes a Fortran-ordered array with `fortran_order: True`; its values are the
+    same array (issue 21: it was read as C order, channels and coefficients swapped)."""
+    c = np.random.default_rng(40).normal(size=(3, 25, 4))
+    c[:, :4, 1:3] = 0
+    np.savez(tmp_path / "f.npz", cod_type=np.array("POLAR4"), sh_type=np.array("REAL"),
+             coeff=np.asfortranarray(c))
+    with np.load(tmp_path / "f.npz") as z:
+        assert z["coeff"].flags.f_contiguous and not z["coeff"].flags.c_contiguous
+    assert np.array_equal(psh.PshVector.read_npz(tmp_path / "f.npz").coeffs, c)

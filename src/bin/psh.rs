@@ -6,7 +6,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use num_complex::Complex64;
 use psh::geometry::rotation_from_rotvec;
 use psh::map::{MapLayout, StokesMap};
-use psh::polarized::{Codomain, FieldArgument, PshRotation};
+use psh::polarized::{Codomain, FieldArgument};
 use psh::sh::MAX_DEGREE;
 use psh::sh::{for_each_block, real_block};
 use psh::sh::{sh_complex, sh_real};
@@ -22,8 +22,26 @@ use std::process::ExitCode;
     about = "Spherical harmonics for polarized light transport"
 )]
 struct Cli {
+    /// Memory budget for work sized by the input (bytes, or with K, M, G, T: powers of
+    /// 1024); default 4G, or $PSH_MAX_MEMORY. Work over it stops with an error naming the
+    /// bytes it needs.
+    #[arg(long, global = true, value_parser = psh::budget::parse_bytes)]
+    max_memory: Option<u64>,
     #[command(subcommand)]
     command: Option<Command>,
+}
+
+/// Every argument that takes a value accepts a negative number as one (`--tolerance -0.5`
+/// is the value -0.5, which psh then refuses with its reason, not an unknown flag).
+fn allow_negative_numbers(cmd: clap::Command) -> clap::Command {
+    cmd.mut_args(|a| {
+        if a.get_action().takes_values() {
+            a.allow_negative_numbers(true)
+        } else {
+            a
+        }
+    })
+    .mut_subcommands(allow_negative_numbers)
 }
 
 #[derive(Subcommand)]
@@ -562,7 +580,11 @@ impl psh::progress::Progress for TerminalProgress {
 }
 
 fn main() -> ExitCode {
-    let cli = match Cli::try_parse() {
+    use clap::{CommandFactory, FromArgMatches};
+    let parsed = allow_negative_numbers(Cli::command())
+        .try_get_matches()
+        .and_then(|m| Cli::from_arg_matches(&m));
+    let cli = match parsed {
         Ok(c) => c,
         Err(e) => {
             use clap::error::ErrorKind::{DisplayHelp, DisplayVersion};
@@ -570,11 +592,14 @@ fn main() -> ExitCode {
                 print!("{e}");
                 return ExitCode::SUCCESS;
             }
-            let text = e.to_string();
-            eprintln!("{}", text.lines().next().unwrap_or("invalid arguments"));
+            // clap's whole message: the error, the usage, and its suggestions.
+            eprint!("{e}");
             return ExitCode::from(2);
         }
     };
+    if let Some(bytes) = cli.max_memory {
+        psh::budget::set_budget(bytes);
+    }
     let result = match cli
         .command
         .unwrap_or(Command::Render(RenderArgs::default()))
@@ -681,6 +706,13 @@ fn filter_report(a: &FilterReportArgs) -> ExitCode {
 
 fn verify(json: bool, filter: Option<&str>) -> ExitCode {
     let results = psh::verify::run(filter);
+    if let (true, Some(f)) = (results.is_empty(), filter) {
+        eprintln!(
+            "error: no check id contains {:?} (`psh verify` without --filter lists them all)",
+            psh::error::clip(f)
+        );
+        return ExitCode::from(2);
+    }
     let ok = results.iter().all(|r| r.passed);
     if json {
         println!(
@@ -732,8 +764,14 @@ fn pairs(v: impl IntoIterator<Item = Complex64>) -> Vec<[f64; 2]> {
     v.into_iter().map(|z| [z.re, z.im]).collect()
 }
 
+/// Bytes a printed number holds: its JSON value and its text.
+const JSON_NUMBER_BYTES: usize = 64;
+
 fn eval_sh(args: &ShArgs) -> psh::Result<serde_json::Value> {
     let a = &args.at;
+    psh::sh::check_lmax(a.lmax)?;
+    let n = psh::sh::num_coeffs(a.lmax);
+    psh::budget::check("the printed SH values (JSON)", &[n, 2], JSON_NUMBER_BYTES)?;
     let values = match args.kind {
         Kind::Real => pairs(
             sh_real(a.lmax, a.theta, a.phi)?
@@ -794,7 +832,7 @@ fn rotate(a: &RotateArgs) -> psh::Result<serde_json::Value> {
     let v = psh::io::read_psh_npz(&a.input)?;
     let rotvec = a.rotvec;
     let r = rotation_from_rotvec(rotvec)?;
-    let rotated = PshRotation::new(&r, v.lmax())?.rotate(&v)?;
+    let rotated = v.rotated(&r)?;
     psh::io::write_psh_npz(&a.output, &rotated)?;
     Ok(json!({"input": a.input, "rotvec": rotvec, "lmax": v.lmax(), "output": a.output}))
 }

@@ -117,6 +117,20 @@ impl CubeCross {
                 reason: "a cube map face needs at least one texel".into(),
             });
         }
+        // The cross has 12 e^2 texels: sizes that overflow are refused here, so that every
+        // later product fits.
+        if edge
+            .checked_mul(3)
+            .and_then(|h| h.checked_mul(4 * edge))
+            .is_none()
+            || edge > usize::MAX / 4
+        {
+            return Err(Error::InvalidArgument {
+                name: "cube map edge",
+                value: edge.to_string(),
+                reason: "the cross's 3e x 4e texels overflow".into(),
+            });
+        }
         Ok(Self { edge })
     }
 
@@ -207,6 +221,13 @@ impl Equirect {
         if height == 0 || width == 0 {
             return Err(Error::GridTooSmall {
                 reason: format!("equirectangular image {height} x {width} is empty"),
+            });
+        }
+        if height.checked_mul(width).is_none() {
+            return Err(Error::InvalidArgument {
+                name: "equirectangular image",
+                value: format!("{height} x {width}"),
+                reason: "the number of texels overflows".into(),
             });
         }
         Ok(Self { height, width })

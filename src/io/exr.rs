@@ -23,6 +23,10 @@ type Component = ((usize, usize), Vec<(String, Vec<f64>)>);
 
 /// One component file: its size and its channels, in the order `R, G, B` when those are
 /// its channels, else in the file's (alphabetical) order.
+/// Bytes per sample a read holds: the file's f32, psh's f64 and the map's share of
+/// `[f64; 4]` texels.
+const PIXEL_BYTES: usize = 4 + 8 + 32;
+
 fn read_component(path: &Path) -> Result<Component> {
     if !path.exists() {
         return Err(io_error(
@@ -32,6 +36,21 @@ fn read_component(path: &Path) -> Result<Component> {
                 "missing Stokes component file",
             ),
         ));
+    }
+    // The header's sizes are input: checked against the budget before any pixel is read
+    // (a 284 KB file may claim 120000 x 90000 texels).
+    let meta = exr::meta::MetaData::read_from_file(path, false)
+        .map_err(|e| malformed(path, e.to_string()))?;
+    for h in &meta.headers {
+        crate::budget::check(
+            "the pixels of an EXR file",
+            &[
+                h.layer_size.width(),
+                h.layer_size.height(),
+                h.channels.list.len(),
+            ],
+            PIXEL_BYTES,
+        )?;
     }
     let image =
         read_first_flat_layer_from_file(path).map_err(|e| malformed(path, e.to_string()))?;
@@ -166,6 +185,29 @@ pub fn write_stokes_image(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A small file whose header claims a huge data window is refused before its pixels
+    /// are allocated (issue 21: 284 KB claiming 120000 x 90000 asked for 43 GB).
+    #[test]
+    fn huge_headers_are_refused_before_reading() {
+        let d = std::env::temp_dir().join(format!("psh_exr_header_{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        let layout = MapLayout::from_image_size(12, 16).unwrap();
+        let v = crate::testing::random_psh(2, Codomain::Full, 3, 9).unwrap();
+        let map = StokesMap::reconstruct(&v, layout).unwrap();
+        let pattern = d.join("m_s%d.exr");
+        write_stokes_map(&map, pattern.to_str().unwrap()).unwrap();
+        let first = d.join("m_s0.exr");
+        let mut bytes = std::fs::read(&first).unwrap();
+        // dataWindow: name, type "box2i", size 16, then xMin, yMin, xMax, yMax (i32 LE).
+        let key = b"dataWindow\0box2i\0";
+        let at = bytes.windows(key.len()).position(|w| w == key).unwrap() + key.len() + 4;
+        bytes[at + 8..at + 12].copy_from_slice(&119_999i32.to_le_bytes());
+        bytes[at + 12..at + 16].copy_from_slice(&89_999i32.to_le_bytes());
+        std::fs::write(&first, &bytes).unwrap();
+        let e = read_stokes_map(pattern.to_str().unwrap()).unwrap_err();
+        assert!(matches!(e, crate::Error::MemoryBudget { .. }), "{e}");
+    }
     use crate::polarized::Codomain;
 
     fn tmp(name: &str) -> PathBuf {

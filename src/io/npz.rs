@@ -40,8 +40,10 @@ struct Archive<'a> {
 }
 
 impl<'a> Archive<'a> {
-    /// Opens `path`. Errors: unreadable, not an npz, a key not in `keys`.
+    /// Opens `path`. Errors: unreadable, not an npz, an entry whose CRC-32 does not match
+    /// its data, a key not in `keys`.
     fn open(path: &'a Path, keys: &[&str]) -> Result<Self> {
+        verify_checksums(path)?;
         let npz = NpzArchive::open(path).map_err(|e| match e.kind() {
             std::io::ErrorKind::NotFound => io_error(path, e),
             _ => malformed(path, format!("not an npz archive: {e}")),
@@ -101,12 +103,67 @@ impl<'a> Archive<'a> {
             .map_err(|e| malformed(path, format!("key 'coeff': {e}")))?
             .ok_or_else(|| malformed(path, "missing key 'coeff'"))?;
         let shape = arr.shape().to_vec();
+        // The header's shape is input: its product is checked before npyz trusts it.
+        let count = shape
+            .iter()
+            .try_fold(1u64, |n, &d| n.checked_mul(d))
+            .and_then(|n| usize::try_from(n).ok())
+            .ok_or_else(|| malformed(path, format!("coeff shape {shape:?} overflows")))?;
+        crate::budget::check("the coeff array of an npz file", &[count], 8)?;
         let accepted = check_shape(&shape).map_err(|reason| malformed(path, reason))?;
+        let fortran = arr.order() == npyz::Order::Fortran;
         let data = arr
             .into_vec()
             .map_err(|e| malformed(path, format!("coeff is not float64: {e}")))?;
+        let data = if fortran {
+            c_order(&shape, &data)
+        } else {
+            data
+        };
         Ok((accepted, data))
     }
+}
+
+/// Reads every entry of the zip archive at `path` to its end, where the zip reader
+/// compares the CRC-32 of the data with the stored one. Error: a mismatch or a corrupt
+/// archive, naming the entry.
+fn verify_checksums(path: &Path) -> Result<()> {
+    let file = File::open(path).map_err(|e| io_error(path, e))?;
+    let mut zip = npyz::zip::ZipArchive::new(BufReader::new(file))
+        .map_err(|e| malformed(path, format!("not an npz archive: {e}")))?;
+    for i in 0..zip.len() {
+        let mut entry = zip
+            .by_index(i)
+            .map_err(|e| malformed(path, format!("zip entry {i}: {e}")))?;
+        let name = crate::error::clip(entry.name());
+        std::io::copy(&mut entry, &mut std::io::sink())
+            .map_err(|e| malformed(path, format!("zip entry '{name}': {e}")))?;
+    }
+    Ok(())
+}
+
+/// Values stored in Fortran order (first index fastest) in C order (last index fastest).
+fn c_order(shape: &[u64], fortran: &[f64]) -> Vec<f64> {
+    let dims: Vec<usize> = shape.iter().map(|&d| d as usize).collect();
+    let mut out = Vec::with_capacity(fortran.len());
+    let mut index = vec![0usize; dims.len()];
+    for _ in 0..fortran.len() {
+        // Fortran offset of the C-order multi-index.
+        let offset = index
+            .iter()
+            .zip(&dims)
+            .rev()
+            .fold(0, |acc, (&i, &d)| acc * d + i);
+        out.push(fortran[offset]);
+        for (k, i) in index.iter_mut().enumerate().rev() {
+            *i += 1;
+            if *i < dims[k] {
+                break;
+            }
+            *i = 0;
+        }
+    }
+    out
 }
 
 /// The band limit `L` with `(L + 1)^2 = n`, if any.
@@ -288,6 +345,33 @@ mod tests {
         let d = std::env::temp_dir().join(format!("psh-npz-{}", std::process::id()));
         std::fs::create_dir_all(&d).unwrap();
         d.join(name)
+    }
+
+    /// Every flipped byte of a file gives an error or (in bytes no reader uses, such as
+    /// timestamps) exactly the values written: the CRC-32 of each entry is checked.
+    #[test]
+    fn flipped_bytes_never_give_other_numbers() {
+        let path = tmp("flipped.npz");
+        let v = crate::testing::random_psh(6, Codomain::Full, 3, 2).unwrap();
+        write_psh_npz(&path, &v).unwrap();
+        let expected = read_psh_npz(&path).unwrap();
+        let good = std::fs::read(&path).unwrap();
+        let mut refused = 0;
+        for i in 0..good.len() {
+            let mut bad = good.clone();
+            bad[i] ^= 0x10;
+            std::fs::write(&path, &bad).unwrap();
+            match read_psh_npz(&path) {
+                Err(_) => refused += 1,
+                Ok(back) => assert_eq!(back.data(), expected.data(), "byte {i}"),
+            }
+        }
+        // The coefficient data is most of the file.
+        assert!(
+            refused > good.len() / 2,
+            "{refused} of {} refused",
+            good.len()
+        );
     }
 
     /// Write then read gives the same field for every codomain and convention; the file

@@ -46,7 +46,7 @@
 
 use crate::error::{Error, Result};
 use crate::optics::{Lambertian, Material, PolarizedPlastic};
-use crate::polarized::{Codomain, FieldArgument, PshRotation, PshVector};
+use crate::polarized::{Codomain, FieldArgument, PshVector};
 use crate::pprt::mesh::Mesh;
 use crate::pprt::scene::{Camera, EnvironmentSource, Scene, SceneMaterial, SceneObject};
 use crate::pprt::settings::{TransferSettings, Visibility};
@@ -393,5 +393,5 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
 
 /// Coefficients given in a frame with another up axis, turned to psh's world.
 fn turn(v: &PshVector, up: Up) -> Result<PshVector> {
-    PshRotation::new(&up.rotation(), v.lmax())?.rotate(v)
+    v.rotated(&up.rotation())
 }

@@ -199,6 +199,24 @@ mod tests {
     }
 
     #[test]
+    fn extreme_indices_are_refused_or_finite() {
+        // Up to MAX_IOR the Mueller matrix stays finite at every incidence (the `expect`
+        // of `mueller_unchecked` relies on it); above, the index is refused.
+        let m = crate::optics::ior::MAX_IOR;
+        for (n, k) in [(m, 0.0), (m, m), (1e-300, m), (m, 1e-300), (1e-300, 0.0)] {
+            for c in [0.0, 1e-300, 0.3, 1.0] {
+                let f = fresnel(c, &ior(n, k)).unwrap().mueller().matrix();
+                assert!(f.iter().all(|x| x.is_finite()), "n {n} k {k} cos {c}");
+            }
+        }
+        for (n, k) in [(1e300, 0.0), (1.5, 1e300), (2.0 * m, 0.0)] {
+            let e = ComplexIor::new(n, k).unwrap_err().to_string();
+            assert!(e.contains("at most"), "{e}");
+        }
+        assert!(crate::optics::PolarizedPlastic::new(0.3, 1e300, 0.5).is_err());
+    }
+
+    #[test]
     fn normal_incidence_closed_form() {
         for n in [1.0, 1.33, 1.5, 2.4, 0.5] {
             let f = fresnel(1.0, &ior(n, 0.0)).unwrap();

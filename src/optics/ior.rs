@@ -17,13 +17,27 @@ pub struct ComplexIor {
     k: f64,
 }
 
+/// Largest `n` and `k` accepted: far above every optical material (`n` below 5 and `k`
+/// below 15 across PF Table 1 and the metals of refractiveindex.info in the visible) and
+/// above the indices PF's filter derives from reflectances up to `1 - 1e-11`
+/// (`n = (1 + sqrt r) / (1 - sqrt r)`), low enough that the Fresnel coefficients'
+/// intermediate powers stay finite (checked at the bound in `fresnel`'s tests).
+pub const MAX_IOR: f64 = 1e12;
+
 impl ComplexIor {
     /// `eta = n + i k`. Errors ([`Error::InvalidArgument`] naming the value): `n` or `k`
-    /// NaN or infinite, `n < 0`, `k < 0` (a gain medium), or `n = k = 0`.
+    /// NaN or infinite, `n < 0`, `k < 0` (a gain medium), `n` or `k` above
+    /// [`MAX_IOR`](crate::optics::MAX_IOR),
+    /// or `n = k = 0`.
     pub fn new(n: f64, k: f64) -> Result<Self> {
         let bad = |name: &'static str, value: f64, reason: &str| Error::InvalidArgument {
             name,
-            value: format!("{value}"),
+            // Exponent form for huge values (1e300 has 301 digits in full).
+            value: if value.abs() >= 1e6 {
+                format!("{value:e}")
+            } else {
+                format!("{value}")
+            },
             reason: reason.to_string(),
         };
         if !n.is_finite() || n < 0.0 {
@@ -39,6 +53,15 @@ impl ComplexIor {
                 k,
                 "must be finite and non-negative (k < 0 is a gain medium)",
             ));
+        }
+        for (name, x) in [("refractive index n", n), ("extinction coefficient k", k)] {
+            if x > MAX_IOR {
+                return Err(bad(
+                    name,
+                    x,
+                    &format!("must be at most {MAX_IOR:e} (no optical medium is near it)"),
+                ));
+            }
         }
         if n == 0.0 && k == 0.0 {
             return Err(bad("refractive index n", n, "n = k = 0 is not a medium"));

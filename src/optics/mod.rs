@@ -50,7 +50,7 @@ pub use filter_table::{
 };
 pub use fresnel::{fresnel, specular_reflection, FresnelCoefficients};
 pub use ggx::{Ggx, MAX_ROUGHNESS, MIN_ROUGHNESS};
-pub use ior::ComplexIor;
+pub use ior::{ComplexIor, MAX_IOR};
 pub use lambertian::Lambertian;
 pub use material::{Channel, Material, WAVELENGTHS_NM};
 pub use microfacet::{sp_frames, MicrofacetSpecular};

@@ -8,18 +8,28 @@
 //!   with the complex Wigner blocks of PSH (9) and `R^{2x2}(x + iy) = [[x, -y], [y, x]]`
 //!   (PSH (37)), i.e. `a'_lm = sum_m' D^l_mm' a_lm'` for `a = f_1 + i f_2`;
 //! - no coupling between spin 0 and spin 2, nor between different `l`.
+//!
+//! [`PshRotation`] stores the blocks for repeated use (memory `~(4/3) lmax^3` numbers,
+//! checked against [`crate::budget`]); [`PshVector::rotated`] streams them one degree at
+//! a time (memory `O(lmax^2)`), with the same result to the bit.
 
 use super::{Codomain, PshVector};
 use crate::error::{Error, Result};
-use crate::sh::wigner::{RealWignerD, WignerD};
+use crate::sh::wigner::{check_block_memory, for_each_block, real_block};
 use nalgebra::Rotation3;
+use num_complex::Complex64;
+
+/// The blocks of one degree: real (PSH (13)) and, for spin 2, complex (PSH (9)).
+#[derive(Clone, Debug)]
+struct Degree {
+    real: Vec<f64>,
+    complex: Option<Vec<Complex64>>,
+}
 
 /// The PSH coefficient matrix of one rotation, up to a band limit.
 #[derive(Clone, Debug)]
 pub struct PshRotation {
-    real: RealWignerD,
-    /// `None` when built for a codomain without spin-2 components.
-    complex: Option<WignerD>,
+    degrees: Vec<Degree>,
 }
 
 impl PshRotation {
@@ -29,21 +39,26 @@ impl PshRotation {
     }
 
     /// The blocks that act on `codomain`: the spin-2 blocks only when it has `s1, s2`
-    /// (scalar SH needs the real Wigner blocks alone).
+    /// (scalar SH needs the real Wigner blocks alone). Error: the blocks' memory
+    /// (`sum (2l+1)^2` numbers) over the budget ([`crate::budget`]).
     pub fn for_codomain(r: &Rotation3<f64>, lmax: usize, codomain: Codomain) -> Result<Self> {
-        Ok(Self {
-            real: RealWignerD::new(r, lmax)?,
-            complex: if codomain.has_spin2() {
-                Some(WignerD::new(r, lmax)?)
-            } else {
-                None
-            },
-        })
+        let spin2 = codomain.has_spin2();
+        check_block_memory(lmax, if spin2 { 24 } else { 8 })?;
+        let mut degrees = Vec::with_capacity(lmax + 1);
+        let mut real = Vec::new();
+        for_each_block(r, lmax, |l, b| {
+            real_block(l, b, &mut real);
+            degrees.push(Degree {
+                real: real.clone(),
+                complex: spin2.then(|| b.to_vec()),
+            });
+        })?;
+        Ok(Self { degrees })
     }
 
     /// The band limit.
     pub fn lmax(&self) -> usize {
-        self.real.lmax()
+        self.degrees.len() - 1
     }
 
     /// The coefficients of `R_F[f]` (PSH (35)) for the coefficients of `f`.
@@ -55,25 +70,111 @@ impl PshRotation {
                 reason: format!("the rotation was built for lmax {}", self.lmax()),
             });
         }
+        if v.codomain().has_spin2() && self.degrees[0].complex.is_none() {
+            return Err(Error::InvalidArgument {
+                name: "PSH vector codomain",
+                value: v.codomain().name().into(),
+                reason: "the rotation was built without spin-2 blocks".into(),
+            });
+        }
         let mut out = v.clone();
-        for c in 0..v.channels() {
-            for (k, &p) in v.codomain().components().iter().enumerate() {
-                if p == 0 || p == 3 {
-                    out.set_component(c, k, &self.real.rotate(&v.component(c, k))?);
-                }
-            }
-            if v.codomain().has_spin2() {
-                let complex = self
-                    .complex
-                    .as_ref()
-                    .ok_or_else(|| Error::InvalidArgument {
-                        name: "PSH vector codomain",
-                        value: v.codomain().name().into(),
-                        reason: "the rotation was built without spin-2 blocks".into(),
-                    })?;
-                out.set_spin2(c, &complex.rotate(&v.spin2(c))?);
-            }
+        for (l, d) in self.degrees.iter().enumerate() {
+            apply_degree(l, &d.real, d.complex.as_deref(), v, &mut out);
         }
         Ok(out)
+    }
+}
+
+impl PshVector {
+    /// The coefficients of `R_F[f]` (PSH (35)), the Wigner blocks streamed one degree at a
+    /// time (memory `O(lmax^2)` besides the vector): equal to the bit to
+    /// [`PshRotation::rotate`], which keeps the blocks for many vectors.
+    pub fn rotated(&self, r: &Rotation3<f64>) -> Result<PshVector> {
+        let mut out = self.clone();
+        let spin2 = self.codomain().has_spin2();
+        let mut real = Vec::new();
+        for_each_block(r, self.lmax(), |l, b| {
+            real_block(l, b, &mut real);
+            apply_degree(l, &real, spin2.then_some(b), self, &mut out);
+        })?;
+        Ok(out)
+    }
+}
+
+/// Degree `l` of `R_F[v]` into `out`: the real block on the spin-0 components, the
+/// complex block on `a = f_1 + i f_2` (PSH (37)); row `m` is `sum_m' B_mm' x_m'`.
+fn apply_degree(
+    l: usize,
+    real: &[f64],
+    complex: Option<&[Complex64]>,
+    v: &PshVector,
+    out: &mut PshVector,
+) {
+    let n = 2 * l + 1;
+    let comps = v.codomain().components();
+    let np = comps.len();
+    let per_channel = crate::sh::num_coeffs(v.lmax()) * np;
+    let (src, dst) = (v.data(), out.data_mut());
+    for c in 0..v.channels() {
+        let base = c * per_channel + l * l * np;
+        let at = |m: usize, k: usize| base + m * np + k;
+        for (k, &p) in comps.iter().enumerate() {
+            if p == 0 || p == 3 {
+                for (i, row) in real.chunks_exact(n).enumerate() {
+                    let mut acc = 0.0;
+                    for (j, &b) in row.iter().enumerate() {
+                        acc += b * src[at(j, k)];
+                    }
+                    dst[at(i, k)] = acc;
+                }
+            }
+        }
+        if let (Some(block), Some(k1)) = (complex, comps.iter().position(|&p| p == 1)) {
+            let k2 = k1 + 1;
+            for (i, row) in block.chunks_exact(n).enumerate() {
+                let mut acc = Complex64::default();
+                for (j, &b) in row.iter().enumerate() {
+                    acc += b * Complex64::new(src[at(j, k1)], src[at(j, k2)]);
+                }
+                dst[at(i, k1)] = acc.re;
+                dst[at(i, k2)] = acc.im;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::rotation_from_rotvec;
+    use crate::testing::random_psh;
+
+    #[test]
+    fn streamed_equals_stored_to_the_bit() {
+        let r = rotation_from_rotvec([0.3, -1.1, 0.7]).unwrap();
+        for codomain in [
+            Codomain::Intensity,
+            Codomain::Linear,
+            Codomain::NoCircular,
+            Codomain::Full,
+        ] {
+            let v = random_psh(12, codomain, 3, 5).unwrap();
+            let stored = PshRotation::for_codomain(&r, 12, codomain)
+                .unwrap()
+                .rotate(&v)
+                .unwrap();
+            assert_eq!(v.rotated(&r).unwrap().data(), stored.data(), "{codomain:?}");
+        }
+    }
+
+    #[test]
+    fn stored_blocks_are_checked_against_the_budget() {
+        let r = rotation_from_rotvec([0.0, 0.0, 1.0]).unwrap();
+        // sum (2l+1)^2 ~ 1.7e11 entries of 24 bytes: refused before allocating.
+        let e = PshRotation::new(&r, 5000).unwrap_err();
+        assert!(matches!(e, Error::MemoryBudget { .. }), "{e}");
+        let v = random_psh(4, Codomain::Full, 1, 1).unwrap();
+        let scalar_only = PshRotation::for_codomain(&r, 4, Codomain::Intensity).unwrap();
+        assert!(scalar_only.rotate(&v).is_err());
     }
 }

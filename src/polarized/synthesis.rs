@@ -22,7 +22,8 @@ use std::f64::consts::SQRT_2;
 
 /// The Stokes components `[s0, s1, s2, s3]` of every channel of `v` at the texels of
 /// `grid` (row-major), in the frames of `frames`; texels of zero solid angle (off a cube
-/// cross) are left zero. Components outside `v`'s codomain are zero.
+/// cross) are left zero. Components outside `v`'s codomain are zero. Error: the image over
+/// the memory budget ([`crate::budget`]).
 pub fn reconstruct_image(
     v: &PshVector,
     grid: &impl PixelGrid,
@@ -30,6 +31,8 @@ pub fn reconstruct_image(
 ) -> Result<Vec<Vec<[f64; 4]>>> {
     let lmax = v.lmax();
     let nch = v.channels();
+    // The image (4 components per channel) and the texel list, before either exists.
+    crate::budget::check("the reconstructed image", &[grid.len(), 4 * nch + 3], 8)?;
     let mut texels = Vec::with_capacity(grid.len());
     for i in 0..grid.len() {
         if grid.solid_angle(i) > 0.0 {

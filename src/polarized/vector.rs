@@ -320,6 +320,11 @@ impl PshVector {
         out
     }
 
+    /// The coefficients, mutable (layout of [`Self::data`]).
+    pub(super) fn data_mut(&mut self) -> &mut [f64] {
+        &mut self.data
+    }
+
     /// Component `p` of channel `c` as a flat SH vector (`l*l + l + m`).
     pub(super) fn component(&self, c: usize, k: usize) -> Vec<f64> {
         (0..num_coeffs(self.lmax))

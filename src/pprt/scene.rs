@@ -70,7 +70,13 @@ pub struct Camera {
 }
 
 impl Camera {
-    /// A camera at `position` looking at `target` with world up `+z`.
+    /// Bytes a render holds per pixel: the RGB Stokes image, the background, the
+    /// primary hit and the pictures, rounded up.
+    pub const PIXEL_BYTES: usize = 512;
+
+    /// A camera at `position` looking at `target` with world up `+z`. Errors: a degenerate
+    /// view, and an image whose rendering (Stokes components, hits and background per
+    /// pixel, [`Self::PIXEL_BYTES`]) exceeds the memory budget ([`crate::budget`]).
     pub fn look_at(
         position: [f64; 3],
         target: [f64; 3],
@@ -87,6 +93,7 @@ impl Camera {
                     .into(),
             });
         }
+        crate::budget::check("the rendered image", &[width, height], Self::PIXEL_BYTES)?;
         let f = f.normalize();
         let frame = crate::geometry::frame::Frame::from_z_and_y([f.x, f.y, f.z], [0.0, 0.0, -1.0])?;
         Ok(Self {

@@ -47,11 +47,18 @@ pub struct VisibilityRays {
 }
 
 impl VisibilityRays {
-    /// `n` directions, SH to degree `lv`. Error: `lv` out of range.
+    /// `n` directions, SH to degree `lv`. Errors: `lv` out of range; the directions and
+    /// their SH over the memory budget ([`crate::budget`]).
     pub fn new(n: usize, lv: usize) -> Result<Self> {
+        let eval = ShEvaluator::new(lv)?;
+        crate::budget::check(
+            "the visibility rays with their SH",
+            &[n, num_coeffs(lv) + 3],
+            8,
+        )?;
         let dirs = fibonacci_directions(n);
         let mut basis = vec![0.0; dirs.len() * num_coeffs(lv)];
-        ShEvaluator::new(lv)?.real_batch(&dirs, &mut basis)?;
+        eval.real_batch(&dirs, &mut basis)?;
         Ok(Self { lv, dirs, basis })
     }
 }

@@ -241,6 +241,18 @@ pub fn small_d_block(l: usize, beta: f64) -> Result<Vec<f64>> {
     Ok(out)
 }
 
+/// `sum_{l <= lmax} (2l+1)^2` entries of `entry_bytes` each, checked against the budget.
+pub(crate) fn check_block_memory(lmax: usize, entry_bytes: usize) -> Result<usize> {
+    let entries = (0..=lmax).try_fold(0usize, |n, l| {
+        n.checked_add((2 * l + 1).checked_mul(2 * l + 1)?)
+    });
+    crate::budget::check(
+        "the stored Wigner blocks of a rotation (stream them with for_each_block)",
+        &[entries.unwrap_or(usize::MAX), 1],
+        entry_bytes,
+    )
+}
+
 /// Streams the complex blocks `D^l(R)`, `l = 0..=lmax` (PSH (9)), calling `f(l, block)`
 /// with the block row-major, rows `m = -l..=l`, columns `m' = -l..=l`. Memory `O(lmax^2)`.
 pub fn for_each_block(
@@ -315,8 +327,10 @@ pub struct WignerD {
 }
 
 impl WignerD {
-    /// Blocks of the rotation `r` up to degree `lmax`.
+    /// Blocks of the rotation `r` up to degree `lmax`. Error: their memory over the budget
+    /// ([`crate::budget`]; stream with [`for_each_block`]).
     pub fn new(r: &Rotation3<f64>, lmax: usize) -> Result<Self> {
+        check_block_memory(lmax, 16)?;
         let mut blocks = Vec::with_capacity(lmax + 1);
         for_each_block(r, lmax, |_, b| blocks.push(b.to_vec()))?;
         Ok(Self { blocks })
@@ -347,8 +361,10 @@ pub struct RealWignerD {
 }
 
 impl RealWignerD {
-    /// Blocks of the rotation `r` up to degree `lmax`.
+    /// Blocks of the rotation `r` up to degree `lmax`. Error: their memory over the budget
+    /// ([`crate::budget`]).
     pub fn new(r: &Rotation3<f64>, lmax: usize) -> Result<Self> {
+        check_block_memory(lmax, 8)?;
         let mut blocks = Vec::with_capacity(lmax + 1);
         let mut out = Vec::new();
         for_each_block(r, lmax, |l, b| {

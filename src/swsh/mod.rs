@@ -40,7 +40,7 @@ pub const MAX_SPIN: i64 = 64;
 /// `sY_lm(theta, phi)` for all `l <= lmax`, `|m| <= l`, in flat order `l*l + l + m`, with
 /// zeros where `l < |s|` (PSH (26)-(27) for `s = 2`).
 pub fn swsh(spin: i64, lmax: usize, theta: f64, phi: f64) -> Result<Vec<Complex64>> {
-    if spin.abs() > MAX_SPIN {
+    if spin.unsigned_abs() > MAX_SPIN as u64 {
         return Err(Error::InvalidArgument {
             name: "spin",
             value: spin.to_string(),

@@ -1,0 +1,226 @@
+//! Hostile input to the command line (issue 21): every case a clean error naming the
+//! value, with exit 1 (psh's error) or 2 (usage), never a panic (101) or an abort, and
+//! no memory allocated beyond the budget.
+
+use std::process::{Command, Output};
+
+fn psh(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_psh"))
+        .args(args)
+        .env_remove("PSH_MAX_MEMORY")
+        .output()
+        .expect("run psh")
+}
+
+fn dir(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("psh_hardening_{name}_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A polarsh `.npz` of one zero POLAR4 channel with `lmax = 3`, written by psh.
+fn small_npz(d: &std::path::Path) -> String {
+    let path = d.join("small.npz");
+    let v = psh::polarized::PshVector::zeros(3, psh::polarized::Codomain::Full, 1).unwrap();
+    psh::io::write_psh_npz(&path, &v).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+/// A fresh directory with `small.npz`, and an output prefix in it.
+fn setup(name: &str) -> (std::path::PathBuf, String, String) {
+    let d = dir(name);
+    let npz = small_npz(&d);
+    let out = d.join("out").to_str().unwrap().to_string();
+    (d, npz, out)
+}
+
+/// Runs `args`, expecting exit `code` and a message containing every one of `needles`.
+fn refused(args: &[&str], code: i32, needles: &[&str]) {
+    let out = psh(args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(code), "{args:?}: {err}");
+    assert!(!err.contains("panicked"), "{args:?}: {err}");
+    for n in needles {
+        assert!(err.contains(n), "{args:?}: {err} lacks {n:?}");
+    }
+}
+
+#[test]
+fn reported_panics_are_clean_errors() {
+    let (d, npz, out) = setup("panics");
+    let out = out.as_str();
+    refused(
+        &[
+            "eval",
+            "swsh",
+            "--spin",
+            "-9223372036854775808",
+            "--lmax",
+            "3",
+            "--theta",
+            "1",
+            "--phi",
+            "1",
+        ],
+        1,
+        &["spin", "-9223372036854775808"],
+    );
+    refused(
+        &["reconstruct", &npz, "--cube", "1073741824", "-o", out],
+        1,
+        &["memory budget"],
+    );
+    refused(
+        &[
+            "reconstruct",
+            &npz,
+            "--cube",
+            "4611686018427387904",
+            "-o",
+            out,
+        ],
+        1,
+        &["cube map edge"],
+    );
+    refused(
+        &[
+            "render",
+            "--size",
+            "8x6",
+            "--l-low",
+            "2",
+            "--l-high",
+            "3",
+            "--rays",
+            "18446744073709551615",
+            "--out",
+            out,
+        ],
+        1,
+        &["visibility rays", "memory budget"],
+    );
+    refused(
+        &["render", "--size", "100000x100000", "--out", out],
+        1,
+        &["rendered image", "bytes"],
+    );
+    let scene = d.join("scene.toml");
+    std::fs::write(
+        &scene,
+        "[environment]\ntype = \"sky\"\nsun_elevation_deg = 40.0\nsun_azimuth_deg = 120.0\n\n\
+         [camera]\nposition = [0.0, -4.0, 1.5]\ntarget = [0.0, 0.0, 0.0]\nfov_deg = 35.0\n\
+         width = 8\nheight = 6\n\n[[material]]\nname = \"p\"\n\
+         type = \"plastic\"\nalpha = 0.5\nior = 1e300\nalbedo = 0.5\n\n[[mesh]]\ntype = \"sphere\"\n\
+         center = [0.0, 0.0, 0.6]\nradius = 0.6\nmaterial = \"p\"\n",
+    )
+    .unwrap();
+    refused(
+        &["render", "--scene", scene.to_str().unwrap(), "--out", out],
+        1,
+        &["1e300"],
+    );
+}
+
+#[test]
+fn outputs_sized_by_input_are_checked_first() {
+    // 8192: 67M complex values printed as JSON, about 8.6 GB.
+    refused(
+        &[
+            "eval", "sh", "--kind", "real", "--lmax", "8192", "--theta", "1", "--phi", "0",
+        ],
+        1,
+        &["printed SH values", "memory budget"],
+    );
+    refused(
+        &[
+            "eval",
+            "sh",
+            "--kind",
+            "real",
+            "--lmax",
+            "9223372036854775807",
+            "--theta",
+            "1",
+            "--phi",
+            "0",
+        ],
+        1,
+        &["9223372036854775807"],
+    );
+}
+
+#[test]
+fn the_memory_budget_is_set_by_flag_and_environment() {
+    let (_, npz, out) = setup("budget");
+    let out = out.as_str();
+    // 200^2 x 12 texels x 4 components x 8 bytes: within 4 GiB, over 1 MiB.
+    assert!(psh(&["reconstruct", &npz, "--cube", "20", "-o", out])
+        .status
+        .success());
+    refused(
+        &[
+            "--max-memory",
+            "1M",
+            "reconstruct",
+            &npz,
+            "--cube",
+            "200",
+            "-o",
+            out,
+        ],
+        1,
+        &["1048576"],
+    );
+    refused(
+        &[
+            "reconstruct",
+            &npz,
+            "--cube",
+            "200",
+            "-o",
+            out,
+            "--max-memory",
+            "12X",
+        ],
+        2,
+        &["12X"],
+    );
+    let env = Command::new(env!("CARGO_BIN_EXE_psh"))
+        .args(["reconstruct", &npz, "--cube", "200", "-o", out])
+        .env("PSH_MAX_MEMORY", "2M")
+        .output()
+        .unwrap();
+    assert_eq!(env.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&env.stderr).contains("2097152"));
+}
+
+#[test]
+fn usage_errors_say_everything() {
+    // clap's whole message: every missing argument and the usage line.
+    refused(
+        &["project"],
+        2,
+        &["--lmax", "--output", "<INPUT>", "Usage: psh project"],
+    );
+    // A negative number is a value, refused by psh with the reason.
+    refused(
+        &[
+            "render",
+            "--tolerance",
+            "-0.5",
+            "--size",
+            "8x6",
+            "--out",
+            "/nonexistent/x",
+        ],
+        1,
+        &["tolerance", "-0.5"],
+    );
+    // A filter that matches no check is an error, not an empty success.
+    refused(
+        &["verify", "--filter", "no-such-check"],
+        2,
+        &["no-such-check"],
+    );
+}
