@@ -119,12 +119,11 @@ impl CubeCross {
         }
         // The cross has 12 e^2 texels: sizes that overflow are refused here, so that every
         // later product fits.
-        if edge
+        let texels = edge
             .checked_mul(3)
-            .and_then(|h| h.checked_mul(4 * edge))
-            .is_none()
-            || edge > usize::MAX / 4
-        {
+            .zip(edge.checked_mul(4))
+            .and_then(|(h, w)| h.checked_mul(w));
+        if texels.is_none() {
             return Err(Error::InvalidArgument {
                 name: "cube map edge",
                 value: edge.to_string(),
@@ -269,6 +268,18 @@ impl PixelGrid for Equirect {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Sizes whose texel count overflows are errors, never an overflow (debug builds
+    /// check every product).
+    #[test]
+    fn overflowing_sizes_are_refused() {
+        for edge in [usize::MAX / 4 + 1, usize::MAX / 3, 1 << 32, usize::MAX] {
+            assert!(CubeCross::new(edge).is_err(), "{edge}");
+        }
+        assert!(CubeCross::new(1 << 20).is_ok());
+        assert!(Equirect::new(usize::MAX, 2).is_err());
+        assert!(Equirect::new(1 << 20, 1 << 21).is_ok());
+    }
 
     #[test]
     fn solid_angles_sum_to_the_sphere() {
