@@ -7,7 +7,7 @@
 //! suffix `K`, `M`, `G`, `T`: powers of 1024), or what [`set_budget`] last set (the
 //! command line's `--max-memory`).
 
-use crate::error::{Error, Result};
+use crate::error::{clip, Error, Result};
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The budget without `PSH_MAX_MEMORY` or [`set_budget`]: 4 GiB.
@@ -61,14 +61,14 @@ pub fn budget() -> Result<u64> {
 /// Checks that `count` items of `item_bytes` bytes each (the factors of `count` given
 /// separately, multiplied with overflow checks) fit in the budget; returns the number of
 /// items. Error [`Error::MemoryBudget`] naming `what`, the bytes and the budget.
-pub fn check(what: &'static str, factors: &[usize], item_bytes: usize) -> Result<usize> {
+pub fn check(what: &str, factors: &[usize], item_bytes: usize) -> Result<usize> {
     let budget = budget()?;
     let count = factors.iter().try_fold(1usize, |n, &f| n.checked_mul(f));
     let bytes = count.and_then(|n| n.checked_mul(item_bytes));
     match (count, bytes) {
         (Some(n), Some(b)) if b as u64 <= budget => Ok(n),
         _ => Err(Error::MemoryBudget {
-            what,
+            what: clip(what),
             bytes: bytes.map(|b| b as u128).unwrap_or_else(|| {
                 factors
                     .iter()

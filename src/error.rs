@@ -74,7 +74,7 @@ pub enum Error {
     /// ([`crate::budget`]); `bytes` saturates at `u128::MAX`.
     #[error("{what} needs {bytes} bytes, over the memory budget of {budget} bytes (raise it with PSH_MAX_MEMORY, e.g. 16G, or --max-memory)")]
     MemoryBudget {
-        what: &'static str,
+        what: String,
         bytes: u128,
         budget: u64,
     },
@@ -97,7 +97,15 @@ pub const MAX_MESSAGE_TEXT: usize = 120;
 /// `text` for a message: at most [`MAX_MESSAGE_TEXT`] characters, with `...` and the
 /// total length when it is cut.
 pub fn clip(text: &str) -> String {
-    match text.char_indices().nth(MAX_MESSAGE_TEXT) {
+    clip_to(text, MAX_MESSAGE_TEXT)
+}
+
+/// Longest reason a malformed file's error gives (a parser's message may quote the file).
+pub const MAX_REASON_TEXT: usize = 600;
+
+/// `text` cut to `max` characters, with `...` and the total length when it is cut.
+pub fn clip_to(text: &str, max: usize) -> String {
+    match text.char_indices().nth(max) {
         None => text.to_string(),
         Some((i, _)) => format!("{}... ({} characters)", &text[..i], text.chars().count()),
     }

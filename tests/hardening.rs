@@ -224,3 +224,94 @@ fn usage_errors_say_everything() {
         &["no-such-check"],
     );
 }
+
+/// Every file of `dir` with its bytes.
+fn snapshot(d: &std::path::Path) -> Vec<(std::path::PathBuf, Vec<u8>)> {
+    let mut files: Vec<_> = std::fs::read_dir(d)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .map(|p| {
+            let bytes = std::fs::read(&p).unwrap();
+            (p, bytes)
+        })
+        .collect();
+    files.sort();
+    files
+}
+
+/// A one-channel `lmax = 1` vector: `s0` coefficients of band 1 all `x`.
+fn band1_npz(path: &std::path::Path, x: f64) {
+    use psh::polarized::{Codomain, PshVector};
+    let mut data = vec![0.0; 16];
+    for i in 1..4 {
+        data[4 * i] = x;
+    }
+    let v = PshVector::from_data(1, Codomain::Full, 1, data).unwrap();
+    psh::io::write_psh_npz(path, &v).unwrap();
+}
+
+#[test]
+fn outputs_are_finite_whole_and_never_over_inputs() {
+    let d = dir("outputs");
+    let s = |p: &std::path::Path| p.to_str().unwrap().to_string();
+    let (big, huge, ok) = (d.join("big.npz"), d.join("huge.npz"), d.join("ok.npz"));
+    band1_npz(&big, 1e200);
+    band1_npz(&huge, 1.5e308);
+    band1_npz(&ok, 1.0);
+    let prefix = s(&d.join("map"));
+    assert!(psh(&["reconstruct", &s(&ok), "--cube", "4", "-o", &prefix])
+        .status
+        .success());
+    let rotated = d.join("rotated.npz");
+    assert!(psh(&[
+        "rotate",
+        &s(&ok),
+        "--rotvec",
+        "0.1,0.2,0.3",
+        "-o",
+        &s(&rotated)
+    ])
+    .status
+    .success());
+    let before = snapshot(&d);
+    // 1e200 is finite in f64 but not as the 32-bit float of an EXR texel: nothing of
+    // the ten files is replaced, no temporary file stays.
+    refused(
+        &["reconstruct", &s(&big), "--cube", "4", "-o", &prefix],
+        1,
+        &["map_s0.exr", "finite"],
+    );
+    // (1, 1, 1) * 1.5e308 turned onto an axis is sqrt(3) * 1.5e308: infinite.
+    for rotvec in ["0.6755,-0.6755,0", "-0.6755,0.6755,0"] {
+        let out = psh(&["rotate", &s(&huge), "--rotvec", rotvec, "-o", &s(&rotated)]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            out.status.code() == Some(1) && err.contains("finite"),
+            "{rotvec}: {err}"
+        );
+    }
+    // An output that is an input, under another spelling, is refused before any work.
+    let alias = s(&d.join(".").join("ok.npz"));
+    refused(
+        &["rotate", &s(&ok), "--rotvec", "0.1,0,0", "-o", &alias],
+        1,
+        &["does not overwrite"],
+    );
+    assert_eq!(snapshot(&d), before, "files changed by failed runs");
+    // Reproducible: the same data gives the same bytes (no zip timestamps).
+    let again = d.join("again.npz");
+    assert!(psh(&[
+        "rotate",
+        &s(&ok),
+        "--rotvec",
+        "0.1,0.2,0.3",
+        "-o",
+        &s(&again)
+    ])
+    .status
+    .success());
+    let bytes = std::fs::read(&again).unwrap();
+    assert_eq!(bytes, std::fs::read(&rotated).unwrap());
+    // The first entry's DOS time and date: 00:00:00, 1980-01-01.
+    assert_eq!(bytes[10..14], [0, 0, 0x21, 0]);
+}

@@ -221,6 +221,29 @@ material = "gold"
             ),
             "absent.npz",
         ),
+        // Issue 21: lists of the wrong length, duplicate names, unbounded echoes.
+        (
+            good.replace(
+                "position = [0.0, -4.0, 2.0]",
+                "position = [0.0, -4.0, 2.0, 9.0]",
+            ),
+            "invalid length 4, expected 3 numbers",
+        ),
+        (
+            good.replace("center = [0.0, 0.0, 0.6]", "center = [0.0, 0.6]"),
+            "invalid length 2",
+        ),
+        (
+            good.replace("name = \"floor\"", "name = \"gold\""),
+            "'gold' is defined twice",
+        ),
+        (
+            good.replace(
+                "material = \"floor\"",
+                &format!("material = \"{}\"", "x".repeat(5000)),
+            ),
+            "(5000 characters)",
+        ),
     ];
     let mut bad = settings;
     bad.l_high = 2;
@@ -231,6 +254,7 @@ material = "gold"
         std::fs::write(&p, text).unwrap();
         let e = load_scene(&p, 5).err().expect("an error").to_string();
         assert!(e.contains(what), "{k}: {e}");
+        assert!(e.len() < 1000, "{k}: a message of {} bytes", e.len());
     }
 }
 

@@ -9,6 +9,7 @@
 
 use crate::apps::plot::{LinePlot, Series};
 use crate::error::{Error, Result};
+use crate::io::write_text;
 use crate::pprt::plan::Plan;
 use crate::pprt::reference::{Fidelity, Reference, ReferenceSettings};
 use crate::pprt::render::{background, primary_hits, render_frame, StokesImage};
@@ -226,7 +227,7 @@ pub fn bench_error(
         speedup_at_equal_rmse: speedup,
     };
     write_text(
-        &out.join("bench-error.json"),
+        out.join("bench-error.json"),
         &serde_json::to_value(&report)
             .and_then(|v| serde_json::to_string_pretty(&v))
             .map_err(|e| Error::InvalidArgument {
@@ -254,7 +255,7 @@ pub fn bench_error(
             r.rmse[3]
         );
     }
-    write_text(&out.join("bench-error.csv"), &csv)?;
+    write_text(out.join("bench-error.csv"), &csv)?;
     plot_error_time(&report.rows, &out.join("bench-error.png"))?;
     plot_fig19(&report.rows, options.l_max, &out.join("fig19.png"))?;
     Ok(report)
@@ -288,13 +289,6 @@ fn speedup_at_equal_error(rows: &[Row], l_max: usize) -> Option<Speedup> {
         reference_frame_s: t,
         ratio: t / p.frame_s,
         extrapolated: matches!(first_below, None | Some(0)),
-    })
-}
-
-fn write_text(path: &Path, text: &str) -> Result<()> {
-    std::fs::write(path, text).map_err(|e| Error::Io {
-        path: path.to_path_buf(),
-        source: e,
     })
 }
 

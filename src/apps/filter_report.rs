@@ -19,6 +19,7 @@
 use crate::apps::plot::{LinePlot, Series};
 use crate::error::Result;
 use crate::io::io_error;
+use crate::io::write_text;
 use crate::optics::filter_table::{
     error_summary, psi_curves, sample_degrees, ErrorSummary, PsiCurve, SpecularSource,
     ERROR_LIMITS_DEGREES, SAMPLES,
@@ -55,8 +56,8 @@ pub fn write_filter_report(dir: &Path) -> Result<FilterReport> {
     let curves = psi_curves(SpecularSource::FromIor)?;
     let errors = error_summary()?;
     let mut files = vec![
-        write_text(&dir.join("psi.csv"), &psi_csv(&curves))?,
-        write_text(&dir.join("max_error.csv"), &max_error_csv(&errors))?,
+        write_text(dir.join("psi.csv"), &psi_csv(&curves))?,
+        write_text(dir.join("max_error.csv"), &max_error_csv(&errors))?,
     ];
     for m in Material::ALL {
         let of_m: Vec<&PsiCurve> = curves.iter().filter(|c| c.material == m).collect();
@@ -94,11 +95,6 @@ pub fn write_filter_report(dir: &Path) -> Result<FilterReport> {
         }
     }
     Ok(FilterReport { files, errors })
-}
-
-fn write_text(path: &Path, text: &str) -> Result<PathBuf> {
-    std::fs::write(path, text).map_err(|e| io_error(path, e))?;
-    Ok(path.to_path_buf())
 }
 
 fn psi_csv(curves: &[PsiCurve]) -> String {

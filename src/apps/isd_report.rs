@@ -18,6 +18,7 @@ use crate::apps::plot::{LinePlot, Series};
 use crate::error::Result;
 use crate::geometry::rotation_from_rotvec;
 use crate::io::io_error;
+use crate::io::write_text;
 use crate::isd::decomposition::{condition_number, transfer_matrix};
 use crate::isd::filter::sh_rotate_dot;
 use crate::isd::{DirectionSet, Isd, Pattern, PreConvolved, Profile, Sharing};
@@ -159,7 +160,7 @@ pub fn write_isd_report(dir: &Path) -> Result<IsdReport> {
             c.condition
         );
     }
-    files.push(write_text(&dir.join("condition.csv"), &csv)?);
+    files.push(write_text(dir.join("condition.csv"), &csv)?);
     for pattern in [Pattern::Fibonacci, Pattern::Halton] {
         let mut plot = LinePlot::new((0.0, 32.0), (0.0, 17.0), (4.0, 1.0))?;
         for profile in Profile::ALL {
@@ -196,17 +197,12 @@ pub fn write_isd_report(dir: &Path) -> Result<IsdReport> {
         );
         timings.push(t);
     }
-    files.push(write_text(&dir.join("timing.csv"), &csv)?);
+    files.push(write_text(dir.join("timing.csv"), &csv)?);
     Ok(IsdReport {
         files,
         conditioning,
         timings,
     })
-}
-
-fn write_text(path: &Path, text: &str) -> Result<PathBuf> {
-    std::fs::write(path, text).map_err(|e| io_error(path, e))?;
-    Ok(path.to_path_buf())
 }
 
 impl IsdReport {

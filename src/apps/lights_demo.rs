@@ -190,7 +190,5 @@ pub fn write_lights_demo(out: &Path) -> Result<DemoReport> {
 
 /// Writes `markdown` to `out/table.md` and returns the path.
 pub(crate) fn write_table(out: &Path, markdown: &str) -> Result<PathBuf> {
-    let table = out.join("table.md");
-    std::fs::write(&table, markdown).map_err(|e| io_error(&table, e))?;
-    Ok(table)
+    crate::io::write_text(out.join("table.md"), markdown)
 }

@@ -97,63 +97,71 @@ pub fn render_job(
     let t2 = Instant::now();
     let image = render_frame(scene, &transfer, &high, &hits, &bg)?;
     let t_frame = t2.elapsed().as_secs_f64();
-    let t3 = Instant::now();
-    let prefix = out.join("render");
-    let mut written = write_stokes_pngs(
-        &image.channels,
-        &vec![true; image.width * image.height],
-        image.width,
-        image.height,
-        &prefix,
-    )?;
-    for &deg in polarizers {
-        written.push(write_polarizer_png(&image, deg, out)?);
-    }
-    let exr_pattern = out.join("render_s%d.exr");
-    written.extend(write_stokes_image(
-        &image.channels,
-        image.width,
-        image.height,
-        &exr_pattern,
-    )?);
-    let t_out = t3.elapsed().as_secs_f64();
-    let cam = scene.camera();
-    let report = RenderReport {
-        settings: ReportSettings {
-            l_low: settings.l_low,
-            l_high: settings.l_high,
-            rays_per_vertex: settings.rays,
-            shadows: settings.shadows(),
-            environment_lmax: scene.environment().lmax(),
-            image: [cam.width, cam.height],
-            polarizers_deg: polarizers.to_vec(),
-        },
-        counts: Counts {
-            vertices,
-            triangles: scene.triangle_count(),
-            visibility_directions: if plan.visibility == Visibility::Rays {
-                vertices * settings.rays
-            } else {
-                0
+    // The pictures, the EXR files and the report appear together or not at all.
+    let report = crate::io::all_or_nothing(&[], || {
+        let t3 = Instant::now();
+        let prefix = out.join("render");
+        let mut written = write_stokes_pngs(
+            &image.channels,
+            &vec![true; image.width * image.height],
+            image.width,
+            image.height,
+            &prefix,
+        )?;
+        for &deg in polarizers {
+            written.push(write_polarizer_png(&image, deg, out)?);
+        }
+        let exr_pattern = out.join("render_s%d.exr");
+        written.extend(write_stokes_image(
+            &image.channels,
+            image.width,
+            image.height,
+            &exr_pattern,
+        )?);
+        let t_out = t3.elapsed().as_secs_f64();
+        let cam = scene.camera();
+        let report = RenderReport {
+            settings: ReportSettings {
+                l_low: settings.l_low,
+                l_high: settings.l_high,
+                rays_per_vertex: settings.rays,
+                shadows: settings.shadows(),
+                environment_lmax: scene.environment().lmax(),
+                image: [cam.width, cam.height],
+                polarizers_deg: polarizers.to_vec(),
             },
-            primary_rays: cam.width * cam.height,
-            transfer_coefficients_per_vertex: 3
-                * plan.codomain.components().len()
-                * crate::sh::num_coeffs(settings.l_low),
-            degenerate_triangles_dropped: scene.objects().iter().map(|o| o.mesh.dropped()).sum(),
-        },
-        plan: PlanReport::new(&plan),
-        high_order_projection_residual_per_material: residuals,
-        times_s: Times {
-            plan: t_plan,
-            precompute: t_pre,
-            primary_visibility_and_background: t_hits,
-            frame: t_frame,
-            pictures: t_out,
-        },
-        pictures: written,
-    };
-    write_json(&out.join("report.json"), &report)?;
+            counts: Counts {
+                vertices,
+                triangles: scene.triangle_count(),
+                visibility_directions: if plan.visibility == Visibility::Rays {
+                    vertices * settings.rays
+                } else {
+                    0
+                },
+                primary_rays: cam.width * cam.height,
+                transfer_coefficients_per_vertex: 3
+                    * plan.codomain.components().len()
+                    * crate::sh::num_coeffs(settings.l_low),
+                degenerate_triangles_dropped: scene
+                    .objects()
+                    .iter()
+                    .map(|o| o.mesh.dropped())
+                    .sum(),
+            },
+            plan: PlanReport::new(&plan),
+            high_order_projection_residual_per_material: residuals,
+            times_s: Times {
+                plan: t_plan,
+                precompute: t_pre,
+                primary_visibility_and_background: t_hits,
+                frame: t_frame,
+                pictures: t_out,
+            },
+            pictures: written,
+        };
+        write_json(&out.join("report.json"), &report)?;
+        Ok(report)
+    })?;
     Ok((report, image))
 }
 
@@ -255,10 +263,7 @@ fn write_json(path: &Path, value: &impl Serialize) -> Result<()> {
             value: path.display().to_string(),
             reason: e.to_string(),
         })?;
-    std::fs::write(path, text).map_err(|e| Error::Io {
-        path: path.to_path_buf(),
-        source: e,
-    })
+    crate::io::write_text(path, &text).map(drop)
 }
 
 /// The RGB picture through a polarizer at `deg` degrees, doubled (Malus halves

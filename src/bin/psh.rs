@@ -12,7 +12,7 @@ use psh::sh::{for_each_block, real_block};
 use psh::sh::{sh_complex, sh_real};
 use psh::Error;
 use serde_json::json;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -815,12 +815,27 @@ fn parse_rotvec(text: &str) -> psh::Result<[f64; 3]> {
     Ok(v)
 }
 
+/// Runs `body`, whose files appear together or not at all and never over one of
+/// `inputs`; `output`, known in advance, is checked before any work.
+fn writing<T>(
+    inputs: &[PathBuf],
+    output: &Path,
+    body: impl FnOnce() -> psh::Result<T>,
+) -> psh::Result<T> {
+    psh::io::refuse_input(inputs, output)?;
+    psh::io::all_or_nothing(inputs, body)
+}
+
 fn project(a: &ProjectArgs) -> psh::Result<serde_json::Value> {
     let codomain = a.codomain.codomain();
     psh::sh::check_lmax(a.lmax)?;
-    let map = psh::io::read_stokes_map(&a.input)?;
-    let v = map.project(codomain, a.lmax)?;
-    psh::io::write_psh_npz(&a.output, &v)?;
+    let inputs = psh::io::component_paths(&a.input)?;
+    let (map, v) = writing(&inputs, &a.output, || {
+        let map = psh::io::read_stokes_map(&a.input)?;
+        let v = map.project(codomain, a.lmax)?;
+        psh::io::write_psh_npz(&a.output, &v)?;
+        Ok((map, v))
+    })?;
     Ok(json!({
         "input": a.input, "layout": [map.layout().height(), map.layout().width()],
         "channels": v.channels(), "lmax": v.lmax(), "codomain": codomain.name(),
@@ -829,15 +844,23 @@ fn project(a: &ProjectArgs) -> psh::Result<serde_json::Value> {
 }
 
 fn rotate(a: &RotateArgs) -> psh::Result<serde_json::Value> {
-    let v = psh::io::read_psh_npz(&a.input)?;
     let rotvec = a.rotvec;
     let r = rotation_from_rotvec(rotvec)?;
-    let rotated = v.rotated(&r)?;
-    psh::io::write_psh_npz(&a.output, &rotated)?;
+    let v = writing(std::slice::from_ref(&a.input), &a.output, || {
+        let v = psh::io::read_psh_npz(&a.input)?;
+        psh::io::write_psh_npz(&a.output, &v.rotated(&r)?)?;
+        Ok(v)
+    })?;
     Ok(json!({"input": a.input, "rotvec": rotvec, "lmax": v.lmax(), "output": a.output}))
 }
 
 fn apply(a: &ApplyArgs) -> psh::Result<serde_json::Value> {
+    writing(&[a.matrix.clone(), a.input.clone()], &a.output, || {
+        apply_files(a)
+    })
+}
+
+fn apply_files(a: &ApplyArgs) -> psh::Result<serde_json::Value> {
     let m = psh::io::read_isotropic_npz(&a.matrix)?;
     let v = psh::io::read_psh_npz(&a.input)?;
     let cut = v.truncated(m.lmax()).map_err(|e| Error::MalformedFile {
@@ -857,6 +880,13 @@ fn apply(a: &ApplyArgs) -> psh::Result<serde_json::Value> {
 }
 
 fn convolve(a: &ConvolveArgs) -> psh::Result<serde_json::Value> {
+    let inputs: Vec<PathBuf> = std::iter::once(a.input.clone())
+        .chain(a.kernel_table.clone())
+        .collect();
+    writing(&inputs, &a.output, || convolve_files(a))
+}
+
+fn convolve_files(a: &ConvolveArgs) -> psh::Result<serde_json::Value> {
     let v = psh::io::read_psh_npz(&a.input)?;
     let (kernel, name) = match (&a.kernel, &a.kernel_table) {
         (Some(KernelName::LinearZenith), _) => (
@@ -1046,8 +1076,11 @@ fn reconstruct(a: &ReconstructArgs) -> psh::Result<serde_json::Value> {
     let v = psh::io::read_psh_npz(&a.input)?;
     // A map is indexed by the direction towards the source.
     let map = StokesMap::reconstruct(&v.converted(FieldArgument::TowardsSource), layout)?;
-    let mut written = psh::io::write_stokes_map(&map, format!("{}_s%d.exr", a.output))?;
-    written.extend(psh::io::write_map_pngs(&map, &a.output)?);
+    let written = psh::io::all_or_nothing(std::slice::from_ref(&a.input), || {
+        let mut written = psh::io::write_stokes_map(&map, format!("{}_s%d.exr", a.output))?;
+        written.extend(psh::io::write_map_pngs(&map, &a.output)?);
+        Ok(written)
+    })?;
     Ok(json!({"input": a.input, "lmax": v.lmax(), "written": written}))
 }
 
@@ -1126,28 +1159,6 @@ fn read_npy_rows(path: &std::path::Path, width: u64) -> psh::Result<(usize, Vec<
     }
 }
 
-/// Writes a float64 `.npy` file of `shape` (C order).
-fn write_npy(
-    path: &std::path::Path,
-    shape: &[u64],
-    data: impl IntoIterator<Item = f64>,
-) -> psh::Result<()> {
-    use npyz::WriterBuilder;
-    let err = |source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    let file = std::io::BufWriter::new(std::fs::File::create(path).map_err(err)?);
-    let mut w = npyz::WriteOptions::new()
-        .default_dtype()
-        .shape(shape)
-        .writer(file)
-        .begin_nd()
-        .map_err(err)?;
-    w.extend(data).map_err(err)?;
-    w.finish().map_err(err)
-}
-
 /// `[re, im]` pairs to complex numbers.
 fn complex_of_pairs(data: &[f64]) -> Vec<Complex64> {
     data.chunks_exact(2)
@@ -1191,13 +1202,13 @@ fn eval_wigner_block(a: &WignerBlockArgs) -> psh::Result<serde_json::Value> {
     })?;
     let shape = match a.kind {
         Kind::Complex => {
-            write_npy(&a.output, &[n, n, 2], pairs_flat(&block))?;
+            psh::io::write_npy(&a.output, &[n, n, 2], pairs_flat(&block))?;
             vec![n, n, 2]
         }
         Kind::Real => {
             let mut real = Vec::new();
             real_block(a.l, &block, &mut real);
-            write_npy(&a.output, &[n, n], real)?;
+            psh::io::write_npy(&a.output, &[n, n], real)?;
             vec![n, n]
         }
     };
@@ -1220,7 +1231,7 @@ fn eval_swsh_points(a: &SwshPointsArgs) -> psh::Result<serde_json::Value> {
         out.extend(psh::swsh::swsh(a.spin, a.lmax, p[0], p[1])?);
     }
     let shape = [count as u64, n as u64, 2];
-    write_npy(&a.output, &shape, pairs_flat(&out))?;
+    psh::io::write_npy(&a.output, &shape, pairs_flat(&out))?;
     Ok(json!({"spin": a.spin, "lmax": a.lmax, "points": count, "output": a.output, "shape": shape}))
 }
 
@@ -1243,7 +1254,7 @@ fn eval_sh_derivatives(a: &ShDerivativesArgs) -> psh::Result<serde_json::Value> 
             .chain(hessians[i])
     });
     let shape = [count as u64, n as u64, 10];
-    write_npy(&a.output, &shape, rows)?;
+    psh::io::write_npy(&a.output, &shape, rows)?;
     Ok(json!({
         "lmax": a.lmax, "points": count, "output": a.output, "shape": shape,
         "hessian_entries": ["xx", "xy", "xz", "yy", "yz", "zz"],
@@ -1289,28 +1300,28 @@ fn eval_sht(a: &ShtArgs) -> psh::Result<serde_json::Value> {
             let c = read_npy_shaped(&a.input, &[n])?;
             let mut out = vec![0.0; grid.len()];
             t.synthesis_real(&c, &mut out)?;
-            write_npy(&a.output, &[nt, np], out)?;
+            psh::io::write_npy(&a.output, &[nt, np], out)?;
             vec![nt, np]
         }
         (Kind::Real, TransformOp::Analysis) => {
             let v = read_npy_shaped(&a.input, &[nt, np])?;
             let mut out = vec![0.0; n as usize];
             t.analysis_real(&v, &mut out)?;
-            write_npy(&a.output, &[n], out)?;
+            psh::io::write_npy(&a.output, &[n], out)?;
             vec![n]
         }
         (Kind::Complex, TransformOp::Synthesis) => {
             let c = complex_of_pairs(&read_npy_shaped(&a.input, &[n, 2])?);
             let mut out = vec![Complex64::default(); grid.len()];
             t.synthesis_complex(&c, &mut out)?;
-            write_npy(&a.output, &[nt, np, 2], pairs_flat(&out))?;
+            psh::io::write_npy(&a.output, &[nt, np, 2], pairs_flat(&out))?;
             vec![nt, np, 2]
         }
         (Kind::Complex, TransformOp::Analysis) => {
             let v = complex_of_pairs(&read_npy_shaped(&a.input, &[nt, np, 2])?);
             let mut out = vec![Complex64::default(); n as usize];
             t.analysis_complex(&v, &mut out)?;
-            write_npy(&a.output, &[n, 2], pairs_flat(&out))?;
+            psh::io::write_npy(&a.output, &[n, 2], pairs_flat(&out))?;
             vec![n, 2]
         }
     };
@@ -1331,14 +1342,14 @@ fn eval_spin_sht(a: &SpinShtArgs) -> psh::Result<serde_json::Value> {
             let c = complex_of_pairs(&read_npy_shaped(&a.input, &[n, 2])?);
             let mut out = vec![Complex64::default(); grid.len()];
             t.synthesis(&c, &mut out)?;
-            write_npy(&a.output, &[nt, np, 2], pairs_flat(&out))?;
+            psh::io::write_npy(&a.output, &[nt, np, 2], pairs_flat(&out))?;
             vec![nt, np, 2]
         }
         TransformOp::Analysis => {
             let v = complex_of_pairs(&read_npy_shaped(&a.input, &[nt, np, 2])?);
             let mut out = vec![Complex64::default(); n as usize];
             t.analysis(&v, &mut out)?;
-            write_npy(&a.output, &[n, 2], pairs_flat(&out))?;
+            psh::io::write_npy(&a.output, &[n, 2], pairs_flat(&out))?;
             vec![n, 2]
         }
     };

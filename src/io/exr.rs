@@ -1,6 +1,8 @@
 //! Polarized maps as OpenEXR: one file per Stokes component (`name_s%d.exr`), channels
-//! `R, G, B` (or a single channel), a cube cross (`3e x 4e`) or an equirectangular image
-//! (`H x 2H`); components in the stored frames of [`crate::io`].
+//! `R, G, B` (or `Y`, or `C0, C1, ...`), a cube cross (`3e x 4e`) or an equirectangular
+//! image (`H x 2H`); components in the stored frames of [`crate::io`]. Reading chooses
+//! channels by name: a layer prefix is dropped (`diffuse.R` is `R`), alpha (`A`) is
+//! ignored, `R, G, B` are taken in that order whatever the file's order.
 
 use super::{component_paths, io_error, malformed, reverse_frame};
 use crate::error::Result;
@@ -21,12 +23,12 @@ fn channel_names(n: usize) -> Vec<String> {
 /// A component file's `(rows, columns)` and its named channels.
 type Component = ((usize, usize), Vec<(String, Vec<f64>)>);
 
-/// One component file: its size and its channels, in the order `R, G, B` when those are
-/// its channels, else in the file's (alphabetical) order.
 /// Bytes per sample a read holds: the file's f32, psh's f64 and the map's share of
 /// `[f64; 4]` texels.
 const PIXEL_BYTES: usize = 4 + 8 + 32;
 
+/// One component file: its size and the channels psh reads ([`choose_channels`]). Error:
+/// a missing or unreadable file, a size over the budget, a non-finite texel.
 fn read_component(path: &Path) -> Result<Component> {
     if !path.exists() {
         return Err(io_error(
@@ -43,7 +45,7 @@ fn read_component(path: &Path) -> Result<Component> {
         .map_err(|e| malformed(path, e.to_string()))?;
     for h in &meta.headers {
         crate::budget::check(
-            "the pixels of an EXR file",
+            &format!("the pixels of {}", path.display()),
             &[
                 h.layer_size.width(),
                 h.layer_size.height(),
@@ -56,22 +58,83 @@ fn read_component(path: &Path) -> Result<Component> {
         read_first_flat_layer_from_file(path).map_err(|e| malformed(path, e.to_string()))?;
     let layer = image.layer_data;
     let size = (layer.size.height(), layer.size.width());
-    let mut chans: Vec<(String, Vec<f64>)> = layer
+    let names: Vec<String> = layer
         .channel_data
         .list
         .iter()
-        .map(|c| {
-            (
-                c.name.to_string(),
-                c.sample_data.values_as_f32().map(f64::from).collect(),
-            )
-        })
+        .map(|c| c.name.to_string())
         .collect();
-    let rank = |n: &str| ["R", "G", "B"].iter().position(|&x| x == n);
-    if chans.len() == 3 && chans.iter().all(|(n, _)| rank(n).is_some()) {
-        chans.sort_by_key(|(n, _)| rank(n));
+    let chosen = choose_channels(path, &names)?;
+    let mut chans = Vec::with_capacity(chosen.len());
+    for (name, k) in chosen {
+        let values: Vec<f64> = layer.channel_data.list[k]
+            .sample_data
+            .values_as_f32()
+            .map(f64::from)
+            .collect();
+        if let Some(t) = values.iter().position(|x| !x.is_finite()) {
+            return Err(malformed(
+                path,
+                format!(
+                    "texel {t} (row {}, column {}) of channel {} is {} (texels must be finite)",
+                    t / size.1,
+                    t % size.1,
+                    crate::error::clip(&names[k]),
+                    values[t]
+                ),
+            ));
+        }
+        chans.push((name, values));
     }
     Ok((size, chans))
+}
+
+/// The channels of a component file psh reads, as `(name, index in the file)`, chosen by
+/// name after dropping a layer prefix (`diffuse.R` is `R`) and ignoring alpha (`A`):
+/// `R, G, B` in that order when all three are there; else `Y`; else `C0, C1, ...` (as
+/// [`write_stokes_map`] names other counts); else the one remaining channel. Error: none
+/// of these, or channels of two layers (psh reads one).
+fn choose_channels(path: &Path, names: &[String]) -> Result<Vec<(String, usize)>> {
+    let split = |n: &str| match n.rfind('.') {
+        Some(k) => (n[..k].to_string(), n[k + 1..].to_string()),
+        None => (String::new(), n.to_string()),
+    };
+    let parts: Vec<(String, String)> = names.iter().map(|n| split(n)).collect();
+    let colour: Vec<usize> = (0..names.len()).filter(|&k| parts[k].1 != "A").collect();
+    let listed = || crate::error::clip(&format!("{names:?}"));
+    let layers: std::collections::BTreeSet<&str> =
+        colour.iter().map(|&k| parts[k].0.as_str()).collect();
+    if layers.len() > 1 {
+        return Err(malformed(
+            path,
+            format!(
+                "channels of several layers {}; psh reads one layer",
+                listed()
+            ),
+        ));
+    }
+    let find = |base: &str| colour.iter().copied().find(|&k| parts[k].1 == base);
+    let named = |bases: &[String]| -> Option<Vec<(String, usize)>> {
+        bases
+            .iter()
+            .map(|b| find(b).map(|k| (b.clone(), k)))
+            .collect()
+    };
+    let rgb = ["R", "G", "B"].map(String::from);
+    let numbered: Vec<String> = (0..colour.len()).map(|c| format!("C{c}")).collect();
+    named(&rgb)
+        .or_else(|| named(&["Y".to_string()]))
+        .or_else(|| named(&numbered))
+        .or_else(|| (colour.len() == 1).then(|| vec![(parts[colour[0]].1.clone(), colour[0])]))
+        .ok_or_else(|| {
+            malformed(
+                path,
+                format!(
+                    "channels {}: psh reads R, G, B, or Y, or C0, C1, ... (alpha ignored)",
+                    listed()
+                ),
+            )
+        })
 }
 
 /// Reads the four component files of a map (`pattern` as in
@@ -152,34 +215,55 @@ pub fn write_stokes_image(
     pattern: impl AsRef<Path>,
 ) -> Result<Vec<PathBuf>> {
     for c in stored {
-        crate::error::check_len("Stokes image channel", w * h, c.len())?;
+        crate::error::check_len("Stokes image channel", w.saturating_mul(h), c.len())?;
     }
     let paths = component_paths(pattern)?;
     let names = channel_names(stored.len());
+    super::output::all_or_nothing(&[], || write_components(stored, w, h, &paths, &names))?;
+    Ok(paths.to_vec())
+}
+
+/// The four component files of [`write_stokes_image`].
+fn write_components(
+    stored: &[Vec<[f64; 4]>],
+    w: usize,
+    h: usize,
+    paths: &[PathBuf; 4],
+    names: &[String],
+) -> Result<()> {
     for (p, path) in paths.iter().enumerate() {
         let list: SmallVec<[AnyChannel<FlatSamples>; 4]> = stored
             .iter()
-            .zip(&names)
+            .zip(names)
             .map(|(ch, name)| {
-                let values = ch.iter().map(|s| s[p] as f32).collect();
-                AnyChannel::new(name.as_str(), FlatSamples::F32(values))
+                let values: Vec<f32> = ch.iter().map(|s| s[p] as f32).collect();
+                match values.iter().position(|x| !x.is_finite()) {
+                    Some(t) => Err(super::output::not_finite(
+                        path,
+                        format!("texel {t} of channel {name} (as 32-bit float)"),
+                        ch[t][p],
+                    )),
+                    None => Ok(AnyChannel::new(name.as_str(), FlatSamples::F32(values))),
+                }
             })
-            .collect();
+            .collect::<Result<_>>()?;
         let layer = Layer::new(
             Vec2(w, h),
             LayerAttributes::named(format!("s{p}").as_str()),
             Encoding::FAST_LOSSLESS,
             AnyChannels::sort(list),
         );
-        Image::from_layer(layer)
-            .write()
-            .to_file(path)
-            .map_err(|e| match e {
-                ::exr::error::Error::Io(io) => io_error(path, io),
-                other => malformed(path, other.to_string()),
-            })?;
+        super::output::write_file(path, |out| {
+            Image::from_layer(layer)
+                .write()
+                .to_buffered(out)
+                .map_err(|e| match e {
+                    ::exr::error::Error::Io(io) => io_error(path, io),
+                    other => malformed(path, other.to_string()),
+                })
+        })?;
     }
-    Ok(paths.to_vec())
+    Ok(())
 }
 
 #[cfg(test)]
@@ -275,31 +359,16 @@ mod tests {
         std::fs::write(odd.remove(1), b"not an exr file").unwrap();
         expect(&pat("odd"), "odd_s1.exr", "malformed");
 
-        let mut nan = map.channels().to_vec();
-        nan[2][20][0] = f64::NAN;
-        // Built directly: `StokesMap::new` refuses NaN, so write the raw channel.
-        let raw = StokesMap::reconstruct(&v, MapLayout::from_image_size(12, 16).unwrap()).unwrap();
-        let paths = write_stokes_map(&raw, pat("nan")).unwrap();
-        let list: SmallVec<[AnyChannel<FlatSamples>; 4]> = ["B", "G", "R"]
-            .iter()
-            .map(|&n| {
-                let c = ["R", "G", "B"].iter().position(|&x| x == n).unwrap();
-                AnyChannel::new(
-                    n,
-                    FlatSamples::F32(nan[c].iter().map(|s| s[0] as f32).collect()),
-                )
-            })
-            .collect();
-        Image::from_layer(Layer::new(
-            Vec2(16, 12),
-            LayerAttributes::default(),
-            Encoding::FAST_LOSSLESS,
-            AnyChannels::sort(list),
-        ))
-        .write()
-        .to_file(&paths[0])
-        .unwrap();
-        expect(&pat("nan"), "nan_s0.exr", "finite");
+        // A NaN in s1 is reported against s1's file.
+        let paths = write_stokes_map(&map, pat("nan")).unwrap();
+        let mut s1 = stored_channels(&map, 1);
+        s1[2].1[20] = f32::NAN;
+        write_raw(&paths[1], &s1, 16, 12);
+        expect(
+            &pat("nan"),
+            "nan_s1.exr",
+            "texel 20 (row 1, column 4) of channel B is NaN",
+        );
 
         let list: SmallVec<[AnyChannel<FlatSamples>; 4]> =
             std::iter::once(AnyChannel::new("Y", FlatSamples::F32(vec![0.0; 10 * 12]))).collect();
@@ -315,5 +384,104 @@ mod tests {
             .unwrap();
         }
         expect(&pat("shape"), "shape_s0.exr", "10 x 12");
+    }
+
+    /// Named channels of an EXR file.
+    type Channels = Vec<(String, Vec<f32>)>;
+
+    /// A change of a file's channels.
+    type Edit = fn(Channels) -> Channels;
+
+    /// The channels `R, G, B` of component `p` of `map` as stored.
+    fn stored_channels(map: &StokesMap, p: usize) -> Channels {
+        ["R", "G", "B"]
+            .iter()
+            .zip(map.channels())
+            .map(|(n, ch)| {
+                let v = ch.iter().map(|s| reverse_frame(*s)[p] as f32).collect();
+                (n.to_string(), v)
+            })
+            .collect()
+    }
+
+    /// Writes an EXR file of the named channels, whatever they are.
+    fn write_raw(path: &Path, channels: &Channels, w: usize, h: usize) {
+        let list: SmallVec<[AnyChannel<FlatSamples>; 4]> = channels
+            .iter()
+            .map(|(n, v)| AnyChannel::new(n.as_str(), FlatSamples::F32(v.clone())))
+            .collect();
+        Image::from_layer(Layer::new(
+            Vec2(w, h),
+            LayerAttributes::default(),
+            Encoding::FAST_LOSSLESS,
+            AnyChannels::sort(list),
+        ))
+        .write()
+        .to_file(path)
+        .unwrap();
+    }
+
+    /// Channels are chosen by name: alpha ignored, a layer prefix dropped, `R, G, B` in
+    /// that order whatever the file's order (issue 21: RGBA gave A, B, G, R).
+    #[test]
+    fn channels_are_chosen_by_name() {
+        let dir = tmp("names");
+        let layout = MapLayout::from_image_size(12, 16).unwrap();
+        let v = crate::testing::random_psh(2, Codomain::Full, 3, 5).unwrap();
+        let map = StokesMap::reconstruct(&v, layout).unwrap();
+        let reference = {
+            let paths = write_stokes_map(&map, dir.join("ref_s%d.exr")).unwrap();
+            read_stokes_map(&paths[0]).unwrap()
+        };
+        let variants: [(&str, Edit); 3] = [
+            ("rgba", |mut c| {
+                let n = c[0].1.len();
+                c.push(("A".into(), vec![1.0; n]));
+                c
+            }),
+            ("layered", |c| {
+                c.into_iter()
+                    .map(|(n, v)| (format!("diffuse.{n}"), v))
+                    .collect()
+            }),
+            ("layered_alpha", |mut c| {
+                let n = c[0].1.len();
+                c.push(("A".into(), vec![0.5; n]));
+                c.into_iter()
+                    .map(|(n, v)| (format!("beauty.{n}"), v))
+                    .collect()
+            }),
+        ];
+        for (name, edit) in variants {
+            for p in 0..4 {
+                let path = dir.join(format!("{name}_s{p}.exr"));
+                write_raw(&path, &edit(stored_channels(&map, p)), 16, 12);
+            }
+            let read = read_stokes_map(dir.join(format!("{name}_s0.exr"))).unwrap();
+            assert_eq!(read.channels(), reference.channels(), "{name}");
+        }
+        // Two layers, or no channel psh knows: errors naming the channels.
+        for p in 0..4 {
+            let mut two = stored_channels(&map, p);
+            two.extend(
+                stored_channels(&map, p)
+                    .into_iter()
+                    .map(|(n, v)| (format!("spec.{n}"), v)),
+            );
+            write_raw(&dir.join(format!("two_s{p}.exr")), &two, 16, 12);
+            let odd = vec![
+                ("X".to_string(), vec![0.0; 192]),
+                ("Z".into(), vec![0.0; 192]),
+            ];
+            write_raw(&dir.join(format!("odd_s{p}.exr")), &odd, 16, 12);
+        }
+        let e = read_stokes_map(dir.join("two_s0.exr"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("two_s0.exr") && e.contains("layers"), "{e}");
+        let e = read_stokes_map(dir.join("odd_s0.exr"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("odd_s0.exr") && e.contains("\"X\""), "{e}");
     }
 }

@@ -5,7 +5,7 @@
 //! starting with `#` are skipped, and so is a first line that is not numeric (a header).
 
 use super::{io_error, malformed};
-use crate::error::Result;
+use crate::error::{clip, Result};
 use crate::polarized::{ConvolutionKernel, KernelValue};
 use std::path::Path;
 
@@ -34,7 +34,7 @@ pub fn read_kernel_csv(path: impl AsRef<Path>) -> Result<ConvolutionKernel> {
             Err(e) => {
                 return Err(malformed(
                     path,
-                    format!("line {}: not a number ({e}): '{line}'", i + 1),
+                    format!("line {}: not a number ({e}): '{}'", i + 1, clip(line)),
                 ))
             }
         };

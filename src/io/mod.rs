@@ -10,21 +10,26 @@
 //! (PSH (14) with the reversed axes, `proofs/travel-convention.md` step 1); reading and
 //! writing apply that map. Coefficient files follow polarsh's travel-direction
 //! convention ([`crate::polarized::FieldArgument::Travel`]).
+//!
+//! **Outputs** are never half-written ([`all_or_nothing`]): each file goes to a temporary
+//! sibling renamed over the target once complete; writers refuse non-finite values.
 
 pub(crate) mod exr;
 pub(crate) mod kernel_csv;
 pub(crate) mod npz;
 #[cfg(feature = "render")]
 pub(crate) mod obj;
+pub(crate) mod output;
 pub(crate) mod png;
 #[cfg(feature = "render")]
 pub(crate) mod scene_file;
 
 pub use exr::{read_stokes_map, write_stokes_image, write_stokes_map};
 pub use kernel_csv::read_kernel_csv;
-pub use npz::{read_isotropic_npz, read_psh_npz, write_isotropic_npz, write_psh_npz};
+pub use npz::{read_isotropic_npz, read_psh_npz, write_isotropic_npz, write_npy, write_psh_npz};
 #[cfg(feature = "render")]
 pub use obj::read_obj;
+pub use output::{all_or_nothing, refuse_input, write_file, write_text};
 pub use png::{diverging, srgb8, write_map_pngs, write_matrix_png, write_png, write_stokes_pngs};
 #[cfg(feature = "render")]
 pub use scene_file::{data_dir, load_scene, SOURCE_LMAX};
@@ -83,7 +88,7 @@ pub(crate) fn io_error(path: &Path, source: std::io::Error) -> Error {
 pub(crate) fn malformed(path: &Path, reason: impl Into<String>) -> Error {
     Error::MalformedFile {
         path: path.to_path_buf(),
-        reason: reason.into(),
+        reason: crate::error::clip_to(&reason.into(), crate::error::MAX_REASON_TEXT),
     }
 }
 

@@ -109,7 +109,11 @@ impl<'a> Archive<'a> {
             .try_fold(1u64, |n, &d| n.checked_mul(d))
             .and_then(|n| usize::try_from(n).ok())
             .ok_or_else(|| malformed(path, format!("coeff shape {shape:?} overflows")))?;
-        crate::budget::check("the coeff array of an npz file", &[count], 8)?;
+        crate::budget::check(
+            &format!("the coeff array of {}", path.display()),
+            &[count],
+            8,
+        )?;
         let accepted = check_shape(&shape).map_err(|reason| malformed(path, reason))?;
         let fortran = arr.order() == npyz::Order::Fortran;
         let data = arr
@@ -299,42 +303,101 @@ pub fn write_isotropic_npz(path: impl AsRef<Path>, m: &IsotropicMatrix) -> Resul
     write_archive(path, &texts, &[m.channels() as u64, k, 4, 4], data)
 }
 
+/// Writes a numpy `float64` array of `shape` (C order) as a `.npy` file. Error: a
+/// non-finite value (the file is then not written).
+pub fn write_npy(
+    path: impl AsRef<Path>,
+    shape: &[u64],
+    data: impl IntoIterator<Item = f64>,
+) -> Result<()> {
+    let path = path.as_ref();
+    super::output::write_file(path, |out| {
+        let w = npyz::WriteOptions::new()
+            .default_dtype()
+            .shape(shape)
+            .writer(out)
+            .begin_nd()
+            .map_err(|e| io_error(path, e))?;
+        push_values(w, path, "value", data, true)
+    })
+}
+
+/// Writes `data` to the array `w` of the file `path` and finishes it. Error, when
+/// `finite_only`: a non-finite value (`what` and its index named).
+fn push_values<W: std::io::Write>(
+    mut w: npyz::NpyWriter<f64, W>,
+    path: &Path,
+    what: &str,
+    data: impl IntoIterator<Item = f64>,
+    finite_only: bool,
+) -> Result<()> {
+    for (k, x) in data.into_iter().enumerate() {
+        if finite_only && !x.is_finite() {
+            return Err(super::output::not_finite(path, format!("{what} {k}"), x));
+        }
+        w.push(&x).map_err(|e| io_error(path, e))?;
+    }
+    w.finish().map_err(|e| io_error(path, e))
+}
+
 /// Writes scalar strings `texts` and the `float64` array `coeff` of `shape` (numpy
-/// `<U*` and `<f8`, as polarsh writes them).
+/// `<U*` and `<f8`, as polarsh writes them), byte for byte the same for the same data
+/// (zip entries dated 1980-01-01, the format's epoch). Error: a non-finite coefficient
+/// (the file is then not written).
 pub(crate) fn write_archive(
     path: &Path,
     texts: &[(&str, &str)],
     shape: &[u64],
     coeff: impl IntoIterator<Item = f64>,
 ) -> Result<()> {
+    archive(path, texts, shape, coeff, true)
+}
+
+/// [`write_archive`], non-finite values refused only when `finite_only` (tests write
+/// hostile files with `false`).
+fn archive(
+    path: &Path,
+    texts: &[(&str, &str)],
+    shape: &[u64],
+    coeff: impl IntoIterator<Item = f64>,
+    finite_only: bool,
+) -> Result<()> {
     let err = |e: std::io::Error| io_error(path, e);
-    let mut npz = NpzWriter::create(path).map_err(err)?;
-    let opts = || npyz::zip::write::FileOptions::default();
-    for &(key, value) in texts {
-        let dtype = npyz::DType::Plain(
-            format!("<U{}", value.chars().count())
-                .parse()
-                .expect("a valid numpy type string"),
-        );
-        let mut w = npz
-            .array::<str>(key, opts())
+    super::output::write_file(path, |out| {
+        let mut npz = NpzWriter::new(out);
+        let opts = || {
+            npyz::zip::write::FileOptions::default()
+                .last_modified_time(npyz::zip::DateTime::default())
+        };
+        for &(key, value) in texts {
+            let dtype = npyz::DType::Plain(
+                format!("<U{}", value.chars().count())
+                    .parse()
+                    .expect("a valid numpy type string"),
+            );
+            let mut w = npz
+                .array::<str>(key, opts())
+                .map_err(err)?
+                .dtype(dtype)
+                .shape(&[])
+                .begin_nd()
+                .map_err(err)?;
+            w.push(value).map_err(err)?;
+            w.finish().map_err(err)?;
+        }
+        let w = npz
+            .array::<f64>("coeff", opts())
             .map_err(err)?
-            .dtype(dtype)
-            .shape(&[])
+            .default_dtype()
+            .shape(shape)
             .begin_nd()
             .map_err(err)?;
-        w.push(value).map_err(err)?;
-        w.finish().map_err(err)?;
-    }
-    let mut w = npz
-        .array::<f64>("coeff", opts())
-        .map_err(err)?
-        .default_dtype()
-        .shape(shape)
-        .begin_nd()
-        .map_err(err)?;
-    w.extend(coeff).map_err(err)?;
-    w.finish().map_err(err)
+        push_values(w, path, "coefficient", coeff, finite_only)?;
+        npz.zip_writer()
+            .finish()
+            .map_err(|e| err(std::io::Error::other(e)))?;
+        Ok(())
+    })
 }
 
 #[cfg(test)]
@@ -422,7 +485,7 @@ mod tests {
     ) -> std::path::PathBuf {
         let path = tmp(name);
         let texts: Vec<(&str, &str)> = keys.to_vec();
-        write_archive(&path, &texts, shape, data.iter().copied()).unwrap();
+        archive(&path, &texts, shape, data.iter().copied(), false).unwrap();
         path
     }
 

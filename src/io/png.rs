@@ -28,18 +28,27 @@ pub fn write_png(
     rgb: &[[u8; 3]],
 ) -> Result<()> {
     let path = path.as_ref();
-    crate::error::check_len("PNG pixels", width * height, rgb.len())?;
-    let file = std::fs::File::create(path).map_err(|e| io_error(path, e))?;
-    let mut enc = ::png::Encoder::new(std::io::BufWriter::new(file), width as u32, height as u32);
-    enc.set_color(::png::ColorType::Rgb);
-    enc.set_depth(::png::BitDepth::Eight);
-    let bytes: Vec<u8> = rgb.iter().flatten().copied().collect();
-    enc.write_header()
-        .and_then(|mut w| w.write_image_data(&bytes))
-        .map_err(|e| match e {
-            ::png::EncodingError::IoError(io) => io_error(path, io),
-            other => malformed(path, other.to_string()),
+    let size = |n: usize| {
+        u32::try_from(n).map_err(|_| Error::InvalidArgument {
+            name: "PNG size",
+            value: format!("{width}x{height}"),
+            reason: "a PNG side is at most 2^32 - 1 pixels".into(),
         })
+    };
+    let (w32, h32) = (size(width)?, size(height)?);
+    crate::error::check_len("PNG pixels", width.saturating_mul(height), rgb.len())?;
+    let bytes: Vec<u8> = rgb.iter().flatten().copied().collect();
+    super::output::write_file(path, |out| {
+        let mut enc = ::png::Encoder::new(out, w32, h32);
+        enc.set_color(::png::ColorType::Rgb);
+        enc.set_depth(::png::BitDepth::Eight);
+        enc.write_header()
+            .and_then(|mut w| w.write_image_data(&bytes).and_then(|()| w.finish()))
+            .map_err(|e| match e {
+                ::png::EncodingError::IoError(io) => io_error(path, io),
+                other => malformed(path, other.to_string()),
+            })
+    })
 }
 
 /// sRGB encoding of a linear value (clipped to `[0, 1]`), to 8 bits.

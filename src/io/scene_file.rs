@@ -44,7 +44,7 @@
 //! shared data directory (`$PSH_DATA_DIR`, else `../shared/data` from the working
 //! directory). Errors name the file and the field.
 
-use crate::error::{Error, Result};
+use crate::error::{clip, Error, Result};
 use crate::optics::{Lambertian, Material, PolarizedPlastic};
 use crate::polarized::{Codomain, FieldArgument, PshVector};
 use crate::pprt::mesh::Mesh;
@@ -107,7 +107,9 @@ impl Up {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct CameraSpec {
+    #[serde(deserialize_with = "exactly")]
     position: [f64; 3],
+    #[serde(deserialize_with = "exactly")]
     target: [f64; 3],
     fov_deg: f64,
     width: usize,
@@ -155,6 +157,7 @@ enum MaterialSpec {
     },
     Diffuse {
         name: String,
+        #[serde(deserialize_with = "exactly")]
         albedo: [f64; 3],
     },
     Npz {
@@ -167,16 +170,19 @@ enum MaterialSpec {
 #[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
 enum MeshSpec {
     Sphere {
+        #[serde(deserialize_with = "exactly")]
         center: [f64; 3],
         radius: f64,
         material: String,
     },
     Plane {
+        #[serde(deserialize_with = "exactly")]
         center: [f64; 3],
         half_size: f64,
         material: String,
     },
     Torus {
+        #[serde(deserialize_with = "exactly")]
         center: [f64; 3],
         major_radius: f64,
         minor_radius: f64,
@@ -188,6 +194,17 @@ enum MeshSpec {
         #[serde(default)]
         up: Up,
     },
+}
+
+/// A list of exactly `N` numbers (TOML's reader alone would take the first `N` of a
+/// longer list).
+fn exactly<'de, D: serde::Deserializer<'de>, const N: usize>(
+    d: D,
+) -> std::result::Result<[f64; N], D::Error> {
+    let v = Vec::<f64>::deserialize(d)?;
+    let n = v.len();
+    v.try_into()
+        .map_err(|_| serde::de::Error::invalid_length(n, &format!("{N} numbers").as_str()))
 }
 
 /// Band limit of a coefficient or map environment as the reference renderer's source
@@ -213,7 +230,11 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
         path: path.to_path_buf(),
         source: e,
     })?;
-    let spec: SceneFile = toml::from_str(&text).map_err(|e| malformed(e.to_string()))?;
+    // The parser's message quotes the file's line: each line clipped.
+    let spec: SceneFile = toml::from_str(&text).map_err(|e| {
+        let lines: Vec<String> = e.to_string().lines().map(clip).collect();
+        malformed(lines.join("\n"))
+    })?;
     let base = path.parent().unwrap_or(Path::new("."));
     let resolve = |p: &str| -> Result<PathBuf> {
         match p.strip_prefix("data:") {
@@ -293,20 +314,20 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
                 name,
                 PolarizedPlastic::new(*alpha, *ior, *albedo)
                     .map(SceneMaterial::Plastic)
-                    .map_err(|e| field(&format!("material '{name}'"), e))?,
+                    .map_err(|e| field(&format!("material '{}'", clip(name)), e))?,
             ),
             MaterialSpec::Conductor { name, table, alpha } => (
                 name,
                 SceneMaterial::Conductor {
                     material: Material::from_name(table)
-                        .map_err(|e| field(&format!("material '{name}'.table"), e))?,
+                        .map_err(|e| field(&format!("material '{}'.table", clip(name)), e))?,
                     alpha: *alpha,
                 },
             ),
             MaterialSpec::Diffuse { name, albedo } => {
                 let lambert = |c: usize| {
                     Lambertian::new(albedo[c])
-                        .map_err(|e| field(&format!("material '{name}'.albedo"), e))
+                        .map_err(|e| field(&format!("material '{}'.albedo", clip(name)), e))
                 };
                 (
                     name,
@@ -322,18 +343,30 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
                     .map(|c| mats.to_dense(c))
                     .collect::<Result<Vec<_>>>()?;
                 let rgb: [_; 3] = dense.try_into().map_err(|d: Vec<_>| {
-                    malformed(format!("material '{name}': {} channels, not 3", d.len()))
+                    malformed(format!(
+                        "material '{}': {} channels, not 3",
+                        clip(name),
+                        d.len()
+                    ))
                 })?;
                 (name, SceneMaterial::Matrices(Box::new(rgb)))
             }
         };
+        if names.contains(name) {
+            return Err(malformed(format!(
+                "material name '{}' is defined twice",
+                clip(name)
+            )));
+        }
         names.push(name.clone());
         materials.push(mat);
     }
     let material_index = |name: &str| {
         names.iter().position(|n| n == name).ok_or_else(|| {
             malformed(format!(
-                "mesh material '{name}' is not defined (materials: {names:?})"
+                "mesh material '{}' is not defined (materials: {})",
+                clip(name),
+                clip(&format!("{names:?}"))
             ))
         })
     };

@@ -209,7 +209,7 @@ impl Material {
             .find(|m| m.name().eq_ignore_ascii_case(alias))
             .ok_or_else(|| Error::InvalidArgument {
                 name: "material name",
-                value: name.to_string(),
+                value: crate::error::clip(name),
                 reason: format!(
                     "not in PF Table 1 ({})",
                     Self::ALL.map(|m| m.name()).join(", ")

@@ -39,11 +39,12 @@ impl PshMatrix {
     pub fn zeros(lmax: usize) -> Result<Self> {
         crate::sh::check_lmax(lmax)?;
         let n = num_coeffs(lmax);
+        let len = crate::budget::check("a PSH matrix", &[n, n, 16], 8)?;
         Ok(Self {
             lmax,
             input: FieldArgument::TowardsSource,
             output: FieldArgument::Travel,
-            data: vec![0.0; n * n * 16],
+            data: vec![0.0; len],
         })
     }
 

@@ -33,7 +33,11 @@ impl PshVector {
                 reason: "at least one channel".into(),
             });
         }
-        let n = channels * num_coeffs(lmax) * codomain.components().len();
+        let n = crate::budget::check(
+            "PSH coefficients",
+            &[channels, num_coeffs(lmax), codomain.components().len()],
+            8,
+        )?;
         Ok(Self {
             lmax,
             codomain,
