@@ -30,7 +30,7 @@ pub enum Error {
     #[error("degree {name} = {value} out of range: {reason}")]
     DegreeOutOfRange {
         name: &'static str,
-        value: i64,
+        value: i128,
         reason: String,
     },
 

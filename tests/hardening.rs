@@ -124,6 +124,15 @@ fn reported_panics_are_clean_errors() {
 
 #[test]
 fn outputs_sized_by_input_are_checked_first() {
+    // One channel at edge 2100: the map (3.0 GB of components and texel angles) fits the
+    // 4 GiB budget, with its EXR files and pictures it does not (4.9 GB; a three-channel
+    // map peaked at 7.4 GB at edge 1700 before the writers' memory was counted).
+    let (_, npz, out) = setup("output_budget");
+    refused(
+        &["reconstruct", &npz, "--cube", "2100", "-o", &out],
+        1,
+        &["EXR files and pictures", "4868640000"],
+    );
     // 8192: 67M complex values printed as JSON, about 8.6 GB.
     refused(
         &[
@@ -148,6 +157,85 @@ fn outputs_sized_by_input_are_checked_first() {
         1,
         &["9223372036854775807"],
     );
+}
+
+/// `psh eval ... | head`: a reader that closes the pipe early ends psh quietly, with no
+/// panic message.
+#[test]
+fn a_closed_pipe_is_not_a_panic() {
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_psh"))
+        .args([
+            "eval", "sh", "--kind", "complex", "--lmax", "300", "--theta", "1", "--phi", "0",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(err.is_empty(), "{err}");
+}
+
+#[test]
+fn degrees_past_i64_are_named_as_given() {
+    for lmax in ["9223372036854775808", "18446744073709551615"] {
+        refused(
+            &[
+                "eval", "sh", "--kind", "real", "--lmax", lmax, "--theta", "1", "--phi", "0",
+            ],
+            1,
+            &["lmax", lmax],
+        );
+    }
+}
+
+/// Render settings are checked before the scene is loaded or projected: a scene file
+/// whose environment does not exist is refused for its settings, not for the file, and
+/// the built-in scene's `--l-low 2000` or `--l-high 8192` stop before any projection.
+#[test]
+fn render_settings_are_checked_before_any_work() {
+    let d = dir("settings");
+    let out = d.join("out");
+    let out = out.to_str().unwrap();
+    let scene = d.join("scene.toml");
+    std::fs::write(
+        &scene,
+        "[environment]\ntype = \"npz\"\npath = \"missing.npz\"\n\n\
+         [camera]\nposition = [0.0, -4.0, 1.5]\ntarget = [0.0, 0.0, 0.0]\nfov_deg = 35.0\n\
+         width = 8\nheight = 6\n\n[settings]\nl_low = 2000\n\n[[material]]\nname = \"d\"\n\
+         type = \"diffuse\"\nalbedo = [0.5, 0.5, 0.5]\n\n[[mesh]]\ntype = \"sphere\"\n\
+         center = [0.0, 0.0, 0.6]\nradius = 0.6\nmaterial = \"d\"\n",
+    )
+    .unwrap();
+    refused(
+        &["render", "--scene", scene.to_str().unwrap(), "--out", out],
+        1,
+        &["transfer settings", "l_low 2000"],
+    );
+    // With the settings overridden, the missing environment is the error.
+    refused(
+        &[
+            "render",
+            "--scene",
+            scene.to_str().unwrap(),
+            "--l-low",
+            "3",
+            "--out",
+            out,
+        ],
+        1,
+        &["missing.npz"],
+    );
+    for (flag, value) in [("--l-low", "2000"), ("--l-high", "8192")] {
+        refused(
+            &["render", "--size", "8x6", flag, value, "--out", out],
+            1,
+            &["transfer settings", value],
+        );
+    }
 }
 
 #[test]
@@ -185,6 +273,25 @@ fn the_memory_budget_is_set_by_flag_and_environment() {
         ],
         2,
         &["12X"],
+    );
+    // The projection's work space (not only its output) is checked: at lmax 1000 the
+    // output fits in 200 MiB, the SH scratch and the partial sums do not.
+    assert!(psh(&["reconstruct", &npz, "--cube", "8", "-o", out])
+        .status
+        .success());
+    refused(
+        &[
+            "--max-memory",
+            "200M",
+            "project",
+            &format!("{out}_s%d.exr"),
+            "--lmax",
+            "1000",
+            "-o",
+            &format!("{out}.npz"),
+        ],
+        1,
+        &["work space", "209715200"],
     );
     let env = Command::new(env!("CARGO_BIN_EXE_psh"))
         .args(["reconstruct", &npz, "--cube", "200", "-o", out])

@@ -121,7 +121,7 @@ fn bad_input_is_an_error() {
     let too_big = MAX_LMAX + 1;
     assert!(matches!(
         DirectionSet::from_pattern(Pattern::Halton, Sharing::Shared, too_big),
-        Err(Error::DegreeOutOfRange { value, .. }) if value == too_big as i64
+        Err(Error::DegreeOutOfRange { value, .. }) if value == too_big as i128
     ));
     assert!(Profile::Gaussian.beta(too_big).is_err());
     // Wrong count, non-unit, NaN directions.

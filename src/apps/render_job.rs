@@ -19,7 +19,8 @@ use std::time::Instant;
 /// The scene and settings of a render job: the TOML scene file `scene` (its settings),
 /// or the built-in scene at `size` (width, height) with the default settings; `l_low`,
 /// `l_high` and `rays` override them where given, `shadows = false` turns visibility off.
-/// Returns also the scene's name for messages.
+/// The settings are checked ([`TransferSettings::check`]) before the scene is loaded or
+/// its environment projected. Returns also the scene's name for messages.
 pub fn job_scene(
     scene: Option<&Path>,
     size: (usize, usize),
@@ -28,20 +29,9 @@ pub fn job_scene(
     rays: Option<usize>,
     shadows: bool,
 ) -> Result<(Scene, TransferSettings, String)> {
-    let (scene, file_settings, name) = match scene {
-        Some(path) => {
-            let lmax = l_high.unwrap_or(0).max(l_low.unwrap_or(0));
-            let (scene, settings) = crate::io::load_scene(path, lmax)?;
-            (scene, settings, path.display().to_string())
-        }
-        None => {
-            let settings = TransferSettings::default();
-            let lmax = l_high
-                .unwrap_or(settings.l_high)
-                .max(l_low.unwrap_or(settings.l_low));
-            let scene = crate::pprt::builtin_scene(lmax, size.0, size.1)?;
-            (scene, settings, "the built-in scene".to_string())
-        }
+    let file_settings = match scene {
+        Some(path) => crate::io::scene_settings(path)?,
+        None => TransferSettings::default(),
     };
     let settings = TransferSettings {
         l_low: l_low.unwrap_or(file_settings.l_low),
@@ -53,7 +43,20 @@ pub fn job_scene(
             Visibility::Off
         },
     };
-    Ok((scene, settings, name))
+    settings.check()?;
+    let lmax = settings.l_high.max(settings.l_low);
+    Ok(match scene {
+        Some(path) => (
+            crate::io::load_scene(path, lmax)?.0,
+            settings,
+            path.display().to_string(),
+        ),
+        None => (
+            crate::pprt::builtin_scene(lmax, size.0, size.1)?,
+            settings,
+            "the built-in scene".to_string(),
+        ),
+    })
 }
 
 /// Renders `scene` with `settings` into `out` (created), planned as `planning` says
@@ -70,6 +73,8 @@ pub fn render_job(
     out: &Path,
     progress: &dyn Progress,
 ) -> Result<(RenderReport, StokesImage)> {
+    // The image with its files and pictures, before any work.
+    crate::io::check_stokes_output(scene.camera().width * scene.camera().height, 3)?;
     std::fs::create_dir_all(out).map_err(|e| Error::Io {
         path: out.to_path_buf(),
         source: e,

@@ -15,6 +15,33 @@ use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+/// `print!` that ends the process quietly (exit 0) when standard output is a closed pipe
+/// (`psh eval ... | head`) instead of panicking; other write errors exit 1.
+macro_rules! out {
+    ($($arg:tt)*) => {
+        write_stdout(format_args!($($arg)*))
+    };
+}
+
+/// [`out!`] with a newline.
+macro_rules! outln {
+    ($($arg:tt)*) => {
+        write_stdout(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
+
+fn write_stdout(text: std::fmt::Arguments) {
+    use std::io::Write;
+    let mut stdout = std::io::stdout().lock();
+    if let Err(e) = stdout.write_fmt(text).and_then(|()| stdout.flush()) {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        eprintln!("error: standard output: {e}");
+        std::process::exit(1);
+    }
+}
+
 #[derive(Parser)]
 #[command(
     name = "psh",
@@ -506,8 +533,30 @@ struct Evaluation {
     phi: f64,
 }
 
-/// Largest degree `psh eval swsh` evaluates (the Wigner recursion costs lmax^3).
+/// Largest degree `psh eval swsh` and `swsh-points` evaluate.
 const MAX_SWSH_EVAL_DEGREE: usize = 2048;
+
+/// `sY_lm(theta, phi)` of all `l <= lmax` in flat order, from `(theta, phi)`.
+type SpinHarmonicsAt = Box<dyn Fn(f64, f64) -> psh::Result<Vec<Complex64>>>;
+
+/// The evaluation of `sY_lm(theta, phi)`, `l <= lmax`, in flat order: the `O(lmax^2)`
+/// recursion of [`psh::swsh::SpinEvaluator`] for `1 <= |s| <= lmax`, the scalar SH for
+/// `s = 0` (PSH (27) with `0Y_lm = Y_lm`), and [`psh::swsh::swsh`] (all zeros, `|s| <=
+/// MAX_SPIN`) when `|s| > lmax`.
+fn spin_harmonics(spin: i64, lmax: usize) -> psh::Result<SpinHarmonicsAt> {
+    if spin == 0 {
+        return Ok(Box::new(move |t, p| sh_complex(lmax, t, p)));
+    }
+    if spin.unsigned_abs() > lmax as u64 {
+        return Ok(Box::new(move |t, p| psh::swsh::swsh(spin, lmax, t, p)));
+    }
+    let eval = psh::swsh::SpinEvaluator::new(spin, lmax)?;
+    Ok(Box::new(move |t, p| {
+        let mut out = vec![Complex64::default(); psh::sh::num_coeffs(lmax)];
+        eval.values(t, p, &mut out)?;
+        Ok(out)
+    }))
+}
 
 #[derive(Clone, Copy, ValueEnum)]
 enum Kind {
@@ -589,7 +638,7 @@ fn main() -> ExitCode {
         Err(e) => {
             use clap::error::ErrorKind::{DisplayHelp, DisplayVersion};
             if matches!(e.kind(), DisplayHelp | DisplayVersion) {
-                print!("{e}");
+                out!("{e}");
                 return ExitCode::SUCCESS;
             }
             // clap's whole message: the error, the usage, and its suggestions.
@@ -630,7 +679,7 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(v) => {
-            println!("{v}");
+            outln!("{v}");
             ExitCode::SUCCESS
         }
         Err(e) => {
@@ -659,7 +708,7 @@ fn lights_demo(a: &LightsDemoArgs) -> ExitCode {
 fn print_table(table: psh::Result<String>) -> ExitCode {
     match table {
         Ok(t) => {
-            print!("{t}");
+            out!("{t}");
             ExitCode::SUCCESS
         }
         Err(e) => {
@@ -678,7 +727,7 @@ fn filter_report(a: &FilterReportArgs) -> ExitCode {
         }
     };
     if a.markdown {
-        print!("{}", report.markdown_table());
+        out!("{}", report.markdown_table());
     } else {
         let errors: Vec<serde_json::Value> = report
             .errors
@@ -696,7 +745,7 @@ fn filter_report(a: &FilterReportArgs) -> ExitCode {
                 })
             })
             .collect();
-        println!(
+        outln!(
             "{}",
             json!({"out": a.out, "files": report.files, "max_error": errors})
         );
@@ -715,17 +764,20 @@ fn verify(json: bool, filter: Option<&str>) -> ExitCode {
     }
     let ok = results.iter().all(|r| r.passed);
     if json {
-        println!(
+        outln!(
             "{}",
             serde_json::to_string_pretty(&results).expect("plain data")
         );
     } else {
-        println!(
+        outln!(
             "{:<36} {:<16} {:>10} {:>10}  result",
-            "check", "source", "max error", "tolerance"
+            "check",
+            "source",
+            "max error",
+            "tolerance"
         );
         for r in &results {
-            println!(
+            outln!(
                 "{:<36} {:<16} {:>10.2e} {:>10.1e}  {}",
                 r.id,
                 r.source,
@@ -738,15 +790,15 @@ fn verify(json: bool, filter: Option<&str>) -> ExitCode {
                 }
             );
             if let Some(e) = &r.error {
-                println!("    error: {e}");
+                outln!("    error: {e}");
             }
             if let Some(s) = &r.skipped {
-                println!("    skipped: {s}");
+                outln!("    skipped: {s}");
             }
         }
         let failed = results.iter().filter(|r| !r.passed).count();
         let skipped = results.iter().filter(|r| r.skipped.is_some()).count();
-        println!(
+        outln!(
             "{} passed, {} failed, {} skipped",
             results.len() - failed - skipped,
             failed,
@@ -790,11 +842,11 @@ fn eval_swsh(args: &SwshArgs) -> psh::Result<serde_json::Value> {
     if a.lmax > MAX_SWSH_EVAL_DEGREE {
         return Err(Error::DegreeOutOfRange {
             name: "lmax",
-            value: a.lmax as i64,
+            value: a.lmax as i128,
             reason: format!("psh eval swsh evaluates at most lmax = {MAX_SWSH_EVAL_DEGREE}"),
         });
     }
-    let values = pairs(psh::swsh::swsh(args.spin, a.lmax, a.theta, a.phi)?);
+    let values = pairs(spin_harmonics(args.spin, a.lmax)?(a.theta, a.phi)?);
     Ok(json!({"lmax": a.lmax, "spin": args.spin, "theta": a.theta, "phi": a.phi, "values": values}))
 }
 
@@ -948,9 +1000,9 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
         &TerminalProgress::new(),
     )?;
     if a.plan {
-        println!("plan (tolerance {:e}):", a.tolerance);
+        outln!("plan (tolerance {:e}):", a.tolerance);
         for r in &report.plan.reasons {
-            println!("  - {r}");
+            outln!("  - {r}");
         }
     }
     to_json(&report)
@@ -1074,6 +1126,8 @@ fn reconstruct(a: &ReconstructArgs) -> psh::Result<serde_json::Value> {
         (None, None) => unreachable!("clap requires --equirect or --cube"),
     };
     let v = psh::io::read_psh_npz(&a.input)?;
+    // The map with its files and pictures, before the map is made.
+    psh::io::check_stokes_output(layout.width() * layout.height(), v.channels())?;
     // A map is indexed by the direction towards the source.
     let map = StokesMap::reconstruct(&v.converted(FieldArgument::TowardsSource), layout)?;
     let written = psh::io::all_or_nothing(std::slice::from_ref(&a.input), || {
@@ -1089,7 +1143,7 @@ fn eval_wigner(a: &WignerArgs) -> psh::Result<serde_json::Value> {
     if a.lmax > MAX_WIGNER_EVAL_DEGREE.min(MAX_DEGREE) {
         return Err(Error::DegreeOutOfRange {
             name: "lmax",
-            value: a.lmax as i64,
+            value: a.lmax as i128,
             reason: format!("psh eval wigner prints at most lmax = {MAX_WIGNER_EVAL_DEGREE}"),
         });
     }
@@ -1188,7 +1242,7 @@ fn eval_wigner_block(a: &WignerBlockArgs) -> psh::Result<serde_json::Value> {
     if a.l > MAX_WIGNER_BLOCK_DEGREE {
         return Err(Error::DegreeOutOfRange {
             name: "l",
-            value: a.l as i64,
+            value: a.l as i128,
             reason: format!("psh eval wigner-block computes at most l = {MAX_WIGNER_BLOCK_DEGREE}"),
         });
     }
@@ -1219,16 +1273,17 @@ fn eval_swsh_points(a: &SwshPointsArgs) -> psh::Result<serde_json::Value> {
     if a.lmax > MAX_SWSH_EVAL_DEGREE {
         return Err(Error::DegreeOutOfRange {
             name: "lmax",
-            value: a.lmax as i64,
+            value: a.lmax as i128,
             reason: format!("psh eval swsh-points evaluates at most lmax = {MAX_SWSH_EVAL_DEGREE}"),
         });
     }
     let (count, points) = read_npy_rows(&a.points, 2)?;
     let n = psh::sh::num_coeffs(a.lmax);
     check_output_size("number of points", count.saturating_mul(n))?;
+    let harmonics = spin_harmonics(a.spin, a.lmax)?;
     let mut out = Vec::with_capacity(count * n);
     for p in points.chunks_exact(2) {
-        out.extend(psh::swsh::swsh(a.spin, a.lmax, p[0], p[1])?);
+        out.extend(harmonics(p[0], p[1])?);
     }
     let shape = [count as u64, n as u64, 2];
     psh::io::write_npy(&a.output, &shape, pairs_flat(&out))?;

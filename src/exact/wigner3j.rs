@@ -154,7 +154,7 @@ fn check(lname: &'static str, mname: &'static str, l: usize, m: i64) -> Result<(
     if l > MAX_GAUNT_DEGREE {
         return Err(Error::DegreeOutOfRange {
             name: lname,
-            value: i64::try_from(l).unwrap_or(i64::MAX),
+            value: l as i128,
             reason: format!("the largest degree supported is {MAX_GAUNT_DEGREE}"),
         });
     }

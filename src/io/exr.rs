@@ -4,6 +4,7 @@
 //! channels by name: a layer prefix is dropped (`diffuse.R` is `R`), alpha (`A`) is
 //! ignored, `R, G, B` are taken in that order whatever the file's order.
 
+use super::texels::{check_stokes_output, StokesTexels};
 use super::{component_paths, io_error, malformed, reverse_frame};
 use crate::error::Result;
 use crate::map::{MapLayout, StokesMap};
@@ -192,17 +193,9 @@ pub fn read_stokes_map(pattern: impl AsRef<Path>) -> Result<StokesMap> {
 /// Writes a map as four component files (`pattern` with `%d`, or one component's file
 /// name), 32-bit float, lossless; returns the paths written.
 pub fn write_stokes_map(map: &StokesMap, pattern: impl AsRef<Path>) -> Result<Vec<PathBuf>> {
-    let stored: Vec<Vec<[f64; 4]>> = map
-        .channels()
-        .iter()
-        .map(|ch| ch.iter().map(|s| reverse_frame(*s)).collect())
-        .collect();
-    write_stokes_image(
-        &stored,
-        map.layout().width(),
-        map.layout().height(),
-        pattern,
-    )
+    let layout = map.layout();
+    let texels = StokesTexels::in_psh_frames(map.channels(), layout.width() * layout.height())?;
+    write_texels(texels, layout.width(), layout.height(), pattern)
 }
 
 /// Writes a `w x h` image (row-major, top row first) given per channel as Stokes
@@ -214,34 +207,45 @@ pub fn write_stokes_image(
     h: usize,
     pattern: impl AsRef<Path>,
 ) -> Result<Vec<PathBuf>> {
-    for c in stored {
-        crate::error::check_len("Stokes image channel", w.saturating_mul(h), c.len())?;
-    }
+    let texels = StokesTexels::stored(stored, w.saturating_mul(h))?;
+    write_texels(texels, w, h, pattern)
+}
+
+/// The four component files of `texels`, a `w x h` image, after the budget check
+/// ([`check_stokes_output`]).
+fn write_texels(
+    texels: StokesTexels,
+    w: usize,
+    h: usize,
+    pattern: impl AsRef<Path>,
+) -> Result<Vec<PathBuf>> {
+    check_stokes_output(texels.len(), texels.channels())?;
     let paths = component_paths(pattern)?;
-    let names = channel_names(stored.len());
-    super::output::all_or_nothing(&[], || write_components(stored, w, h, &paths, &names))?;
+    let names = channel_names(texels.channels());
+    super::output::all_or_nothing(&[], || write_components(texels, w, h, &paths, &names))?;
     Ok(paths.to_vec())
 }
 
-/// The four component files of [`write_stokes_image`].
+/// The four component files of [`write_texels`].
 fn write_components(
-    stored: &[Vec<[f64; 4]>],
+    texels: StokesTexels,
     w: usize,
     h: usize,
     paths: &[PathBuf; 4],
     names: &[String],
 ) -> Result<()> {
     for (p, path) in paths.iter().enumerate() {
-        let list: SmallVec<[AnyChannel<FlatSamples>; 4]> = stored
+        let list: SmallVec<[AnyChannel<FlatSamples>; 4]> = names
             .iter()
-            .zip(names)
-            .map(|(ch, name)| {
-                let values: Vec<f32> = ch.iter().map(|s| s[p] as f32).collect();
+            .enumerate()
+            .map(|(c, name)| {
+                let value = |t: usize| texels.get(c, t)[p];
+                let values: Vec<f32> = (0..texels.len()).map(|t| value(t) as f32).collect();
                 match values.iter().position(|x| !x.is_finite()) {
                     Some(t) => Err(super::output::not_finite(
                         path,
                         format!("texel {t} of channel {name} (as 32-bit float)"),
-                        ch[t][p],
+                        value(t),
                     )),
                     None => Ok(AnyChannel::new(name.as_str(), FlatSamples::F32(values))),
                 }

@@ -23,6 +23,7 @@ pub(crate) mod output;
 pub(crate) mod png;
 #[cfg(feature = "render")]
 pub(crate) mod scene_file;
+pub(crate) mod texels;
 
 pub use exr::{read_stokes_map, write_stokes_image, write_stokes_map};
 pub use kernel_csv::read_kernel_csv;
@@ -32,7 +33,8 @@ pub use obj::read_obj;
 pub use output::{all_or_nothing, refuse_input, write_file, write_text};
 pub use png::{diverging, srgb8, write_map_pngs, write_matrix_png, write_png, write_stokes_pngs};
 #[cfg(feature = "render")]
-pub use scene_file::{data_dir, load_scene, SOURCE_LMAX};
+pub use scene_file::{data_dir, load_scene, scene_settings, SOURCE_LMAX};
+pub use texels::check_stokes_output;
 
 use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};

@@ -20,7 +20,7 @@ pub fn read_obj(path: impl AsRef<Path>) -> Result<Mesh> {
     let (mut positions, mut normals, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
     let mut all_normals = true;
     for m in &models {
-        let base = positions.len() as u32;
+        let base = u32::try_from(positions.len()).unwrap_or(u32::MAX);
         let mesh = &m.mesh;
         positions.extend(
             mesh.positions
@@ -33,11 +33,10 @@ pub fn read_obj(path: impl AsRef<Path>) -> Result<Mesh> {
                 .chunks_exact(3)
                 .map(|p| [p[0], p[1], p[2]].map(f64::from)),
         );
-        triangles.extend(
-            mesh.indices
-                .chunks_exact(3)
-                .map(|t| [t[0] + base, t[1] + base, t[2] + base]),
-        );
+        for t in mesh.indices.chunks_exact(3) {
+            // An index past u32 cannot name a vertex: Mesh::from_soup reports it.
+            triangles.push([t[0], t[1], t[2]].map(|i| i.saturating_add(base)));
+        }
     }
     Mesh::from_soup(positions, all_normals.then_some(normals), triangles)
         .map_err(|e| malformed(path, e.to_string()))

@@ -14,7 +14,8 @@
 //!
 //! Texels off a cube cross are black.
 
-use super::{io_error, malformed, reverse_frame};
+use super::texels::{check_stokes_output, StokesTexels};
+use super::{io_error, malformed};
 use crate::error::{Error, Result};
 use crate::geometry::image_grid::PixelGrid;
 use crate::map::StokesMap;
@@ -113,13 +114,8 @@ pub fn write_map_pngs(map: &StokesMap, prefix: impl AsRef<Path>) -> Result<Vec<P
     let on: Vec<bool> = (0..layout.len())
         .map(|i| layout.solid_angle(i) > 0.0)
         .collect();
-    // Stored-frame components per channel.
-    let stored: Vec<Vec<[f64; 4]>> = map
-        .channels()
-        .iter()
-        .map(|ch| ch.iter().map(|s| reverse_frame(*s)).collect())
-        .collect();
-    write_stokes_pngs(&stored, &on, layout.width(), layout.height(), prefix)
+    let texels = StokesTexels::in_psh_frames(map.channels(), layout.len())?;
+    write_texel_pngs(texels, &on, layout.width(), layout.height(), prefix)
 }
 
 /// Writes `{prefix}_s0.png`, `_s1`, `_s2`, `_s3`, `_dop` and `_aop` for an image of
@@ -132,15 +128,26 @@ pub fn write_stokes_pngs(
     h: usize,
     prefix: impl AsRef<Path>,
 ) -> Result<Vec<PathBuf>> {
-    let n = w * h;
-    for (what, len) in std::iter::once(("pixel mask", on.len()))
-        .chain(stored.iter().map(|c| ("Stokes image channel", c.len())))
-    {
-        crate::error::check_len(what, n, len)?;
-    }
+    let texels = StokesTexels::stored(stored, w.saturating_mul(h))?;
+    write_texel_pngs(texels, on, w, h, prefix)
+}
+
+/// The pictures of [`write_stokes_pngs`], after the budget check
+/// ([`check_stokes_output`]).
+fn write_texel_pngs(
+    texels: StokesTexels,
+    on: &[bool],
+    w: usize,
+    h: usize,
+    prefix: impl AsRef<Path>,
+) -> Result<Vec<PathBuf>> {
+    let n = texels.len();
+    crate::error::check_len("pixel mask", n, on.len())?;
+    check_stokes_output(n, texels.channels())?;
     let lum: Vec<[f64; 4]> = (0..n)
         .map(|i| {
-            [0, 1, 2, 3].map(|p| luminance(&stored.iter().map(|c| c[i][p]).collect::<Vec<_>>()))
+            let values: Vec<[f64; 4]> = (0..texels.channels()).map(|c| texels.get(c, i)).collect();
+            [0, 1, 2, 3].map(|p| luminance(&values.iter().map(|s| s[p]).collect::<Vec<_>>()))
         })
         .collect();
     let on_values = |p: usize| -> Vec<f64> {
@@ -163,8 +170,8 @@ pub fn write_stokes_pngs(
     };
 
     let exposure = 1.0 / quantile_abs(&on_values(0), 0.99);
-    save("s0", &|i| match stored.len() {
-        3 => [0, 1, 2].map(|c| srgb8(exposure * stored[c][i][0])),
+    save("s0", &|i| match texels.channels() {
+        3 => [0, 1, 2].map(|c| srgb8(exposure * texels.get(c, i)[0])),
         _ => [srgb8(exposure * lum[i][0]); 3],
     })?;
     let scale = (1..4)

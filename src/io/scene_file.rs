@@ -218,6 +218,44 @@ pub fn data_dir() -> PathBuf {
         .unwrap_or_else(|| PathBuf::from("../shared/data"))
 }
 
+/// The parsed scene file `path`, nothing loaded or projected yet.
+fn read_spec(path: &Path) -> Result<SceneFile> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+        path: path.to_path_buf(),
+        source: e,
+    })?;
+    // The parser's message quotes the file's line: each line clipped.
+    toml::from_str(&text).map_err(|e| {
+        let lines: Vec<String> = e.to_string().lines().map(clip).collect();
+        Error::MalformedFile {
+            path: path.to_path_buf(),
+            reason: lines.join("\n"),
+        }
+    })
+}
+
+impl SettingsSpec {
+    fn transfer(&self) -> TransferSettings {
+        TransferSettings {
+            l_low: self.l_low,
+            l_high: self.l_high,
+            rays: self.rays,
+            visibility: if self.shadows {
+                Visibility::Rays
+            } else {
+                Visibility::Off
+            },
+        }
+    }
+}
+
+/// The transfer settings of the scene file `path` (its `[settings]`), read without
+/// loading meshes or projecting the environment: settings can be checked before any
+/// work.
+pub fn scene_settings(path: impl AsRef<Path>) -> Result<TransferSettings> {
+    Ok(read_spec(path.as_ref())?.settings.transfer())
+}
+
 /// Reads a scene file; the environment is band-limited to `l_high` (at least the file's
 /// `l_low` and `l_high`).
 pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, TransferSettings)> {
@@ -226,15 +264,7 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
         path: path.to_path_buf(),
         reason,
     };
-    let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
-        path: path.to_path_buf(),
-        source: e,
-    })?;
-    // The parser's message quotes the file's line: each line clipped.
-    let spec: SceneFile = toml::from_str(&text).map_err(|e| {
-        let lines: Vec<String> = e.to_string().lines().map(clip).collect();
-        malformed(lines.join("\n"))
-    })?;
+    let spec = read_spec(path)?;
     let base = path.parent().unwrap_or(Path::new("."));
     let resolve = |p: &str| -> Result<PathBuf> {
         match p.strip_prefix("data:") {
@@ -246,16 +276,7 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
             None => Ok(base.join(p)),
         }
     };
-    let settings = TransferSettings {
-        l_low: spec.settings.l_low,
-        l_high: spec.settings.l_high,
-        rays: spec.settings.rays,
-        visibility: if spec.settings.shadows {
-            Visibility::Rays
-        } else {
-            Visibility::Off
-        },
-    };
+    let settings = spec.settings.transfer();
     let lmax = l_high.max(settings.l_low).max(settings.l_high);
     let field = |name: &str, e: Error| malformed(format!("{name}: {e}"));
     // The reference renderer's environment: the sky itself, or the coefficients to

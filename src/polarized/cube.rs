@@ -12,7 +12,7 @@
 //! faces and every channel; the rotations are exact, so the result equals the texel-wise
 //! quadrature over the whole cross ([`project_image`]) to rounding.
 
-use super::{project_image, Codomain, PshRotation, PshVector};
+use super::{project_image, Codomain, PshVector};
 use crate::error::{check_len, Error, Result};
 use crate::geometry::frame::{CubeMapFrameField, PerspectiveFrameField};
 use crate::geometry::image_grid::{CubeCross, CubeFace, PixelGrid};
@@ -115,7 +115,8 @@ pub fn project_cube_map(
             part
         } else {
             let m = CubeMapFrameField::camera_frame(face).matrix() * camera.matrix().transpose();
-            PshRotation::new(&Rotation3::from_matrix_unchecked(m), lmax)?.rotate(&part)?
+            // Each rotation is used once: its Wigner blocks streamed, not stored.
+            part.rotated(&Rotation3::from_matrix_unchecked(m))?
         };
         for (s, x) in sum.iter_mut().zip(part.data()) {
             *s += x;

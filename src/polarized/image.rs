@@ -10,7 +10,7 @@ use crate::error::{check_len, Error, Result};
 use crate::geometry::frame::FrameField;
 use crate::geometry::image_grid::PixelGrid;
 use crate::sh::lm_index;
-use crate::sh::pixel::{block_sum, project_real_channels};
+use crate::sh::pixel::{block_sum, partials_at_once, project_real_channels};
 use crate::stokes::StokesComponents;
 use crate::swsh::{HalfAngle, SpinEvaluator};
 use num_complex::Complex64;
@@ -67,9 +67,15 @@ pub fn project_image(
         .map(|i| (i, grid.solid_angle(i)))
         .filter(|&(_, omega)| omega > 0.0)
         .collect();
-    // Four partial sums per coefficient and row (re, im of each channel), flattened.
+    // Per worker four partial sums per coefficient and row (re, im of each channel),
+    // returned as their sum; the sum of the blocks.
     let n = crate::sh::num_coeffs(lmax);
-    let flat = block_sum(&texels, LANES, n * rows * 4, |block| {
+    crate::budget::check(
+        "the work space of a spin-2 projection",
+        &[n, rows, 5 * partials_at_once() + 1],
+        8,
+    )?;
+    let acc = block_sum(&texels, LANES, n * rows, |block| {
         let mut acc = vec![[0.0; 4]; n * rows];
         let mut scratch = Vec::new();
         let mut z = vec![[0.0; LANES]; rows];
@@ -128,17 +134,12 @@ pub fn project_image(
                 accumulate(col, &g, &mut acc, |k| lm_index(l0 + k, m));
             });
         }
-        Ok(acc.into_iter().flatten().collect())
+        Ok(acc.iter().map(|v| (v[0] + v[1]) + (v[2] + v[3])).collect())
     })?;
-    let acc: Vec<[f64; 4]> = flat
-        .chunks_exact(4)
-        .map(|v| [v[0], v[1], v[2], v[3]])
-        .collect();
-    let sum = |v: &[f64; 4]| (v[0] + v[1]) + (v[2] + v[3]);
     for c in 0..channels.len() {
         let a: Vec<Complex64> = acc
             .chunks_exact(rows)
-            .map(|r| Complex64::new(sum(&r[2 * c]), sum(&r[2 * c + 1])))
+            .map(|r| Complex64::new(r[2 * c], r[2 * c + 1]))
             .collect();
         out.set_spin2(c, &a);
     }

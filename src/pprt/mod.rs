@@ -33,7 +33,7 @@ pub use reference::{Fidelity, Reference, ReferenceSettings, Workspace};
 pub use reflected::{high_order_kernel, reflected_pbrdf, reflected_radiance};
 pub use render::{background, primary_hits, render_frame, vertex_stokes, StokesImage};
 pub use scene::{Camera, EnvironmentSource, Hit, Scene, SceneMaterial, SceneObject};
-pub use settings::{Planning, TransferSettings, Visibility};
+pub use settings::{Planning, TransferSettings, Visibility, MAX_L_HIGH, MAX_L_LOW};
 pub use sky::RayleighSky;
 pub use transfer::{
     high_order_fields, precompute, precompute_planned, ray_visibility, VertexTransfer,

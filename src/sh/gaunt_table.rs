@@ -4,7 +4,7 @@
 //! triple products of PSH (55).
 
 use super::gaunt::{gaunt_prefactor, real_coupling};
-use super::wigner3j::{degree_i64, row_unchecked, MAX_GAUNT_DEGREE};
+use super::wigner3j::{row_unchecked, MAX_GAUNT_DEGREE};
 use crate::error::{Error, Result};
 use crate::sh::{lm_index, num_coeffs};
 use std::ops::{Add, Mul};
@@ -63,7 +63,7 @@ impl GauntTable {
             if v > MAX_TABLE_DEGREE {
                 return Err(Error::DegreeOutOfRange {
                     name,
-                    value: degree_i64(v),
+                    value: v as i128,
                     reason: format!(
                         "Gaunt tables are limited to degree {MAX_TABLE_DEGREE} per factor"
                     ),
@@ -73,7 +73,7 @@ impl GauntTable {
         if lmax_out > MAX_GAUNT_DEGREE {
             return Err(Error::DegreeOutOfRange {
                 name: "lmax_out",
-                value: degree_i64(lmax_out),
+                value: lmax_out as i128,
                 reason: format!("the largest degree supported is {MAX_GAUNT_DEGREE}"),
             });
         }

@@ -83,7 +83,7 @@ pub fn check_degree_limit(name: &'static str, lmax: usize, limit: usize, what: &
     if lmax > limit {
         return Err(Error::DegreeOutOfRange {
             name,
-            value: lmax as i64,
+            value: lmax as i128,
             reason: format!("{what} is {limit}"),
         });
     }
@@ -95,7 +95,7 @@ pub fn check_lm(l: i64, m: i64) -> Result<()> {
     if l < 0 {
         return Err(Error::DegreeOutOfRange {
             name: "l",
-            value: l,
+            value: l.into(),
             reason: "degrees are non-negative".into(),
         });
     }

@@ -398,7 +398,7 @@ fn block_of<T>(blocks: &[Vec<T>], l: usize) -> Result<&[T]> {
         .map(Vec::as_slice)
         .ok_or(Error::DegreeOutOfRange {
             name: "l",
-            value: l as i64,
+            value: l as i128,
             reason: format!("the blocks stop at l = {}", blocks.len().saturating_sub(1)),
         })
 }

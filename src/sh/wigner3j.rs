@@ -41,11 +41,6 @@ const RESCALE_EXP: i32 = 300;
 // Input checks
 // ---------------------------------------------------------------------------------------
 
-/// `l` as an `i64` for error messages (saturating).
-pub(super) fn degree_i64(l: usize) -> i64 {
-    i64::try_from(l).unwrap_or(i64::MAX)
-}
-
 /// Checks `l <= MAX_GAUNT_DEGREE` and `|m| <= l`, naming the offending argument.
 pub(super) fn check_degree_order(
     lname: &'static str,
@@ -56,7 +51,7 @@ pub(super) fn check_degree_order(
     if l > MAX_GAUNT_DEGREE {
         return Err(Error::DegreeOutOfRange {
             name: lname,
-            value: degree_i64(l),
+            value: l as i128,
             reason: format!(
                 "the largest degree supported by the 3j/Gaunt routines is {MAX_GAUNT_DEGREE}"
             ),

@@ -82,7 +82,7 @@ pub fn spin2_closed_form(l: usize, m: i64, theta: f64, phi: f64) -> Result<Compl
     if l < 2 {
         return Err(Error::DegreeOutOfRange {
             name: "l",
-            value: l as i64,
+            value: l as i128,
             reason: "spin-2 harmonics start at l = 2".into(),
         });
     }
