@@ -267,7 +267,12 @@ fn rotating_everything_together_leaves_the_image_unchanged() {
     use psh::pprt::{background, primary_hits, render_frame};
     use psh::pprt::{Camera, Scene, SceneObject};
     let l = 3;
+    // The background of both from the coefficients (the built-in sky is not turned).
     let scene = builtin_scene(l, 24, 18).unwrap();
+    let scene = {
+        let env = psh::pprt::EnvironmentSource::Coefficients(scene.environment().clone());
+        scene.with_source(env).unwrap()
+    };
     let r = psh::geometry::rotation_from_rotvec([0.4, -0.9, 0.3]).unwrap();
     let cam = scene.camera();
     let p = r * nalgebra::Vector3::from(cam.position);
@@ -330,6 +335,35 @@ fn rotating_everything_together_leaves_the_image_unchanged() {
     println!("{compared} pixels compared, largest difference relative to s0: {worst:e}");
     assert!(compared > ha.len() * 9 / 10, "{compared}");
     assert!(worst < 1e-9, "{worst}");
+}
+
+/// The background is the environment itself, never the transfer's band-limited copy
+/// (issue 24): for the analytic sky the same at every band limit and physical everywhere
+/// (`s0 >= 0`, DoP <= 1: the Rayleigh sky's DoP is `sin^2 g / (1 + cos^2 g)`), while the
+/// sky cut to l = 4 has pixels with `s0 < 0` or DoP > 1 in this view.
+#[test]
+fn the_background_is_the_environment_itself() {
+    use psh::pprt::{background, primary_hits, EnvironmentSource};
+    let unphysical = |bg: &[[[f64; 4]; 3]]| {
+        bg.iter()
+            .flatten()
+            .filter(|s| s[0] < 0.0 || s[1].hypot(s[2]).hypot(s[3]) > s[0] * (1.0 + 1e-12))
+            .count()
+    };
+    let low = builtin_scene(4, 48, 36).unwrap();
+    let high = builtin_scene(9, 48, 36).unwrap();
+    let hits = primary_hits(&low);
+    let (a, b) = (
+        background(&low, &hits).unwrap(),
+        background(&high, &hits).unwrap(),
+    );
+    assert_eq!(a, b);
+    let sky_pixels = hits.iter().filter(|h| h.is_none()).count();
+    assert!(sky_pixels > 100, "{sky_pixels}");
+    assert_eq!(unphysical(&a), 0);
+    let cut = EnvironmentSource::Coefficients(low.environment().clone());
+    let band_limited = background(&low.with_source(cut).unwrap(), &hits).unwrap();
+    assert!(unphysical(&band_limited) > 0);
 }
 
 /// Camera roll (PSH (14)): turning the camera about its view axis turns its frame on

@@ -23,15 +23,13 @@
 //! errors can be told apart), or exactly what unshadowed PPRT integrates (to check it).
 
 use super::render::{camera_travel_frame, seen_through, StokesImage};
-use super::scene::{EnvironmentSource, Hit, Scene, SceneMaterial};
+use super::scene::{Hit, Scene, SceneMaterial};
 use crate::error::{check_len, Error, Result};
 use crate::geometry::frame::{Frame, FrameField, PerspectiveFrameField, ThetaPhiFrameField};
 use crate::optics::{Channel, Conductor, Ggx, Lambertian, PolarizedPlastic};
 use crate::polarized::{PshEvaluator, PshMatrix, PshVector};
 use crate::sh::num_coeffs;
-use crate::stokes::{
-    MuellerField, MuellerMatrix, MuellerTransform, StokesComponents, StokesVector,
-};
+use crate::stokes::{MuellerField, MuellerMatrix, MuellerTransform, StokesVector};
 use nalgebra::{Rotation3, Vector3};
 use num_complex::Complex64;
 use rayon::prelude::*;
@@ -40,7 +38,7 @@ use std::f64::consts::PI;
 /// What the reference integrates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Fidelity {
-    /// The scene's source environment ([`EnvironmentSource`]), the materials' pBRDF models
+    /// The scene's source environment ([`super::EnvironmentSource`]), the materials' pBRDF models
     /// and ray-cast visibility above the shading tangent plane: the ground truth.
     Exact,
     /// As [`Fidelity::Exact`] with the environment's PSH coefficients cut at `l`.
@@ -264,10 +262,9 @@ impl<'a> Reference<'a> {
             .max()
             .unwrap_or(0);
         Ok(Workspace {
-            environment: PshEvaluator::new(match (&self.environment, self.scene.source()) {
-                (Some(v), _) => v.lmax(),
-                (None, EnvironmentSource::Coefficients(v)) => v.lmax(),
-                (None, EnvironmentSource::Sky(_)) => 0,
+            environment: PshEvaluator::new(match &self.environment {
+                Some(v) => v.lmax(),
+                None => self.scene.source().lmax(),
             })?,
             basis: PshEvaluator::new(basis)?,
         })
@@ -276,21 +273,9 @@ impl<'a> Reference<'a> {
     /// The light arriving from `w` (towards its source), per channel, in the theta-phi
     /// frame at `w`.
     fn incident(&self, ws: &mut Workspace, w: [f64; 3]) -> Result<Vec<StokesVector>> {
-        match (&self.environment, self.scene.source()) {
-            (Some(v), _) | (None, EnvironmentSource::Coefficients(v)) => {
-                ws.environment.evaluate_all(v, w)
-            }
-            (None, EnvironmentSource::Sky(sky)) => {
-                let frame = ThetaPhiFrameField::new().frame(w)?;
-                (0..3)
-                    .map(|c| {
-                        Ok(StokesVector::new(
-                            StokesComponents::new(sky.stokes(c, w)?)?,
-                            frame,
-                        ))
-                    })
-                    .collect()
-            }
+        match &self.environment {
+            Some(v) => ws.environment.evaluate_all(v, w),
+            None => self.scene.source().incident(&mut ws.environment, w),
         }
     }
 

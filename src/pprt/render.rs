@@ -84,25 +84,31 @@ pub(crate) fn camera_travel_frame(field: &PerspectiveFrameField, v: [f64; 3]) ->
     Frame::new([x.x, x.y, x.z], [-y.x, -y.y, -y.z], v)
 }
 
-/// The environment seen directly through the pixels without a hit (its band-limited PSH
-/// coefficients, PSH (30)), in the camera's frames; zero where a surface is hit.
+/// The environment seen directly through the pixels without a hit, in the camera's
+/// frames; zero where a surface is hit. It is the scene's source
+/// ([`super::EnvironmentSource::incident`]: the sky exactly, coefficients at their own band
+/// limit), never the transfer's band-limited copy, whose ringing would show as the sky.
 /// Computed once per camera.
 pub fn background(scene: &Scene, hits: &[Option<Hit>]) -> Result<Vec<[[f64; 4]; 3]>> {
     let cam = scene.camera();
     let field = PerspectiveFrameField::new(cam.frame);
-    let env = scene.environment();
+    let source = scene.source();
+    let evaluator = PshEvaluator::new(source.lmax())?;
     hits.par_iter()
         .enumerate()
-        .map(|(k, hit)| {
-            let mut s = [[0.0; 4]; 3];
-            if hit.is_none() {
-                let d = cam.pixel_direction(k % cam.width, k / cam.width);
-                for (sc, v) in s.iter_mut().zip(env.evaluate_all(d)?) {
-                    *sc = seen_through(&field, d, &v)?;
+        .map_init(
+            || evaluator.clone(),
+            |evaluator, (k, hit)| {
+                let mut s = [[0.0; 4]; 3];
+                if hit.is_none() {
+                    let d = cam.pixel_direction(k % cam.width, k / cam.width);
+                    for (sc, v) in s.iter_mut().zip(source.incident(evaluator, d)?) {
+                        *sc = seen_through(&field, d, &v)?;
+                    }
                 }
-            }
-            Ok(s)
-        })
+                Ok(s)
+            },
+        )
         .collect()
 }
 

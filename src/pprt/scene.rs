@@ -4,9 +4,13 @@
 use super::mesh::Mesh;
 use super::sky::RayleighSky;
 use crate::error::{Error, Result};
+use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
 use crate::optics::{Channel, Conductor, Lambertian, Material, PolarizedPlastic};
-use crate::polarized::{project_operator, FieldArgument, PshMatrix, PshVector, SpinBlock22};
+use crate::polarized::{
+    project_operator, FieldArgument, PshEvaluator, PshMatrix, PshVector, SpinBlock22,
+};
 use crate::stokes::MuellerField;
+use crate::stokes::{StokesComponents, StokesVector};
 use bvh::aabb::{Aabb, Bounded};
 use bvh::bounding_hierarchy::BHShape;
 use bvh::bvh::Bvh;
@@ -176,6 +180,36 @@ pub enum EnvironmentSource {
     Sky(RayleighSky),
     /// Coefficients only (a `.npz` vector at its own band limit, or a projected map).
     Coefficients(PshVector),
+}
+
+impl EnvironmentSource {
+    /// The band limit an evaluator needs for [`Self::incident`] (0 for the sky).
+    pub fn lmax(&self) -> usize {
+        match self {
+            Self::Sky(_) => 0,
+            Self::Coefficients(v) => v.lmax(),
+        }
+    }
+
+    /// The light arriving from the unit direction `w` (towards its source), per channel, in
+    /// the theta-phi frame at `w`: the sky evaluated exactly, coefficients at their own
+    /// band limit by PSH (30) with `evaluator` (of band limit at least [`Self::lmax`]).
+    pub fn incident(&self, evaluator: &mut PshEvaluator, w: [f64; 3]) -> Result<Vec<StokesVector>> {
+        match self {
+            Self::Coefficients(v) => evaluator.evaluate_all(v, w),
+            Self::Sky(sky) => {
+                let frame = ThetaPhiFrameField::new().frame(w)?;
+                (0..3)
+                    .map(|c| {
+                        Ok(StokesVector::new(
+                            StokesComponents::new(sky.stokes(c, w)?)?,
+                            frame,
+                        ))
+                    })
+                    .collect()
+            }
+        }
+    }
 }
 
 /// Objects, materials, environment (PSH coefficients, RGB, and their source) and camera,
