@@ -105,41 +105,6 @@ fn eval_swsh_prints_spin_two_values() {
     }
 }
 
-/// `eval swsh` takes the `O(lmax^2)` recursion (spin 0: the scalar SH): equal to the
-/// Wigner-d construction of `psh::swsh::swsh` (Risbo's recursion, PSH (27)) at the poles,
-/// near them and inside, and zeros when `|s| > lmax`.
-#[test]
-fn eval_swsh_agrees_with_the_wigner_construction() {
-    for (spin, lmax) in [(2i64, 40usize), (-3, 40), (0, 40), (5, 3)] {
-        for theta in [0.0, 1e-9, 1.3, std::f64::consts::PI] {
-            let v = psh_json(&[
-                "eval",
-                "swsh",
-                "--spin",
-                &spin.to_string(),
-                "--lmax",
-                &lmax.to_string(),
-                "--theta",
-                &theta.to_string(),
-                "--phi",
-                "0.7",
-            ]);
-            let expect = psh::swsh::swsh(spin, lmax, theta, 0.7).unwrap();
-            let got = v["values"].as_array().unwrap();
-            assert_eq!(got.len(), expect.len());
-            for (i, (p, e)) in got.iter().zip(&expect).enumerate() {
-                let (l, m) = psh::sh::lm_of_index(i);
-                let scale = ((2 * l + 1) as f64 / (4.0 * std::f64::consts::PI)).sqrt();
-                let d = (p[0].as_f64().unwrap() - e.re).hypot(p[1].as_f64().unwrap() - e.im);
-                assert!(
-                    d <= 1e-13 * scale,
-                    "spin {spin} theta {theta} l {l} m {m}: {p:?} vs {e}"
-                );
-            }
-        }
-    }
-}
-
 #[test]
 fn bad_arguments_give_clear_errors() {
     for args in [

@@ -173,6 +173,7 @@ material = "gold"
         Planning::Tolerance(1e-3),
         &[0.0, 90.0],
         &dir.join("out"),
+        false,
         &psh::progress::Silent,
     )
     .unwrap();
@@ -364,6 +365,49 @@ fn the_background_is_the_environment_itself() {
     let cut = EnvironmentSource::Coefficients(low.environment().clone());
     let band_limited = background(&low.with_source(cut).unwrap(), &hits).unwrap();
     assert!(unphysical(&band_limited) > 0);
+}
+
+/// The render job counts the pixels that break PSH (70) before any projection, and with
+/// `valid_range` leaves none (PSH Fig. 22), valid pixels untouched.
+#[test]
+fn the_valid_range_projection_leaves_no_unphysical_pixel() {
+    use psh::apps::render_job::render_job;
+    use psh::pprt::UnphysicalPixels;
+    let dir = std::env::temp_dir().join(format!("psh_valid_range_{}", std::process::id()));
+    let scene = builtin_scene(9, 64, 48).unwrap();
+    let settings = TransferSettings::default();
+    let job = |valid: bool, name: &str| {
+        render_job(
+            &scene,
+            settings,
+            Planning::Tolerance(1e-3),
+            &[],
+            &dir.join(name),
+            valid,
+            &psh::progress::Silent,
+        )
+        .unwrap()
+    };
+    let ((raw_report, raw), (valid_report, valid)) = (job(false, "raw"), job(true, "valid"));
+    let counted = raw.unphysical();
+    assert_eq!(raw_report.unphysical_pixels, counted);
+    assert_eq!(valid_report.unphysical_pixels, counted);
+    // The default scene at l_high 9 rings: some surface pixels break PSH (70).
+    assert!(
+        counted.surface_s0_negative.iter().sum::<usize>() > 0,
+        "{counted:?}"
+    );
+    assert_eq!(valid.unphysical(), UnphysicalPixels::default());
+    for (a, b) in raw
+        .channels
+        .iter()
+        .flatten()
+        .zip(valid.channels.iter().flatten())
+    {
+        if a[0] >= a[1].hypot(a[2]).hypot(a[3]) {
+            assert_eq!(a, b);
+        }
+    }
 }
 
 /// Camera roll (PSH (14)): turning the camera about its view axis turns its frame on

@@ -18,13 +18,14 @@ fn to_python<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bo
 /// (pictures, EXR files and `report.json`, as `psh render`): the TOML scene file `scene`,
 /// or the built-in scene at `width x height`; `l_low`, `l_high`, `rays` override the
 /// scene's settings, `shadows=False` turns visibility off, `tolerance` plans what the
-/// scene needs (`None`: compute everything). Returns `(stokes, report)`: the image
+/// scene needs (`None`: compute everything), `valid_range=True` projects every pixel onto
+/// the physically valid range PSH (70) (PSH Fig. 22). Returns `(stokes, report)`: the image
 /// `(3, height, width, 4)` (RGB, Stokes components in the camera's frames, row 0 at the
 /// top) and the report as a dict.
 #[pyfunction]
 #[pyo3(signature = (scene = None, out = std::path::PathBuf::from("psh-out"), width = 480, height = 360,
     l_low = None, l_high = None, rays = None, shadows = true, tolerance = Some(1e-3),
-    polarizers = vec![0.0, 45.0, 90.0, 135.0]))]
+    polarizers = vec![0.0, 45.0, 90.0, 135.0], valid_range = false))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -38,6 +39,7 @@ fn render<'py>(
     shadows: bool,
     tolerance: Option<f64>,
     polarizers: Vec<f64>,
+    valid_range: bool,
 ) -> PyResult<(Bound<'py, PyArrayDyn<f64>>, Bound<'py, PyAny>)> {
     checked_len("image", &[3, width, height, 4])?;
     let planning = tolerance.map_or(Planning::Full, Planning::Tolerance);
@@ -57,6 +59,7 @@ fn render<'py>(
                 planning,
                 &polarizers,
                 &out,
+                valid_range,
                 &psh::progress::Silent,
             )
         })

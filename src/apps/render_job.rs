@@ -7,7 +7,7 @@ use crate::io::exr::write_stokes_image;
 use crate::io::png::{srgb8, write_png, write_stokes_pngs};
 use crate::polarized::SparsePshMatrix;
 use crate::pprt::plan::Plan;
-use crate::pprt::render::{background, primary_hits, render_frame, StokesImage};
+use crate::pprt::render::{background, primary_hits, render_frame, StokesImage, UnphysicalPixels};
 use crate::pprt::scene::Scene;
 use crate::pprt::settings::{Planning, TransferSettings, Visibility};
 use crate::pprt::transfer::precompute_planned;
@@ -63,14 +63,18 @@ pub fn job_scene(
 /// ([`Plan::new`]): `render_s{0..3}.exr` (components
 /// in the camera's frames, [`crate::pprt::render_frame`]), `render_{s0,s1,s2,s3,dop,aop}.png`,
 /// `polarizer_{deg}.png` for each angle in `polarizers` (degrees from image-right towards
-/// image-up) and `report.json` (with the plan), reporting the precomputation to `progress`.
-/// Returns the report and the rendered image.
+/// image-up) and `report.json` (with the plan and the pixels that break PSH (70),
+/// counted before any projection), reporting the precomputation to `progress`. With
+/// `valid_range` every pixel is projected onto the physically valid range PSH (70) (PSH
+/// Fig. 22, [`StokesImage::to_nearest_physical`]). Returns the report and the rendered
+/// image.
 pub fn render_job(
     scene: &Scene,
     settings: TransferSettings,
     planning: Planning,
     polarizers: &[f64],
     out: &Path,
+    valid_range: bool,
     progress: &dyn Progress,
 ) -> Result<(RenderReport, StokesImage)> {
     // The image with its files and pictures, before any work.
@@ -100,7 +104,11 @@ pub fn render_job(
     let bg = background(scene, &hits)?;
     let t_hits = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
-    let image = render_frame(scene, &transfer, &high, &hits, &bg)?;
+    let mut image = render_frame(scene, &transfer, &high, &hits, &bg)?;
+    let unphysical = image.unphysical();
+    if valid_range {
+        image.to_nearest_physical()?;
+    }
     let t_frame = t2.elapsed().as_secs_f64();
     // The pictures, the EXR files and the report appear together or not at all.
     let report = crate::io::all_or_nothing(&[], || {
@@ -134,7 +142,9 @@ pub fn render_job(
                 environment_lmax: scene.environment().lmax(),
                 image: [cam.width, cam.height],
                 polarizers_deg: polarizers.to_vec(),
+                valid_range_projection: valid_range,
             },
+            unphysical_pixels: unphysical,
             counts: Counts {
                 vertices,
                 triangles: scene.triangle_count(),
@@ -224,6 +234,7 @@ pub fn ablation_job(
             Planning::Full,
             polarizers,
             &out.join(name),
+            false,
             progress,
         )?;
         rows.push(AblationVariant {
@@ -298,6 +309,9 @@ pub struct RenderReport {
     /// Per material, the relative residual of projecting its reflected pBRDF onto a
     /// convolution (the high orders), `None` without high orders.
     pub high_order_projection_residual_per_material: Vec<Option<f64>>,
+    /// Pixels breaking PSH (70) per channel before any projection (in the pictures:
+    /// magenta in `s0` and `dop`, white in `aop`).
+    pub unphysical_pixels: UnphysicalPixels,
     pub times_s: Times,
     pub pictures: Vec<PathBuf>,
 }
@@ -313,6 +327,8 @@ pub struct ReportSettings {
     /// Width and height in pixels.
     pub image: [usize; 2],
     pub polarizers_deg: Vec<f64>,
+    /// Whether the pixels were projected onto the valid range PSH (70) (PSH Fig. 22).
+    pub valid_range_projection: bool,
 }
 
 /// The sizes of a render's work.

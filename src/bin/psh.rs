@@ -201,6 +201,10 @@ struct RenderArgs {
     /// Error tolerance of the plan's decisions (relative; in (0, 1)).
     #[arg(long, default_value_t = 1e-3)]
     tolerance: f64,
+    /// Project every pixel's Stokes vector onto the physically valid range
+    /// s0 >= |(s1, s2, s3)| (PSH (70), Fig. 22): the nearest valid vector, AoLP kept.
+    #[arg(long, conflicts_with = "ablation")]
+    valid_range: bool,
 }
 
 impl Default for RenderArgs {
@@ -221,6 +225,7 @@ impl Default for RenderArgs {
             plan: false,
             no_plan: false,
             tolerance: 1e-3,
+            valid_range: false,
         }
     }
 }
@@ -533,30 +538,15 @@ struct Evaluation {
     phi: f64,
 }
 
-/// Largest degree `psh eval swsh` and `swsh-points` evaluate.
-const MAX_SWSH_EVAL_DEGREE: usize = 2048;
+/// Largest degree `psh eval swsh` and `swsh-points` evaluate: the Wigner-d construction
+/// of [`psh::swsh::swsh`] costs `lmax^3` per direction (5 s at 1024, 41 s at 2048). The
+/// `O(lmax^2)` recursion of `SpinEvaluator` is not used here: near the poles it is off by
+/// 6e-12 of the bound at l = 500 for `m = +-s` (against `spherical`), where this
+/// construction stays at 2e-14.
+const MAX_SWSH_EVAL_DEGREE: usize = 1024;
 
-/// `sY_lm(theta, phi)` of all `l <= lmax` in flat order, from `(theta, phi)`.
-type SpinHarmonicsAt = Box<dyn Fn(f64, f64) -> psh::Result<Vec<Complex64>>>;
-
-/// The evaluation of `sY_lm(theta, phi)`, `l <= lmax`, in flat order: the `O(lmax^2)`
-/// recursion of [`psh::swsh::SpinEvaluator`] for `1 <= |s| <= lmax`, the scalar SH for
-/// `s = 0` (PSH (27) with `0Y_lm = Y_lm`), and [`psh::swsh::swsh`] (all zeros, `|s| <=
-/// MAX_SPIN`) when `|s| > lmax`.
-fn spin_harmonics(spin: i64, lmax: usize) -> psh::Result<SpinHarmonicsAt> {
-    if spin == 0 {
-        return Ok(Box::new(move |t, p| sh_complex(lmax, t, p)));
-    }
-    if spin.unsigned_abs() > lmax as u64 {
-        return Ok(Box::new(move |t, p| psh::swsh::swsh(spin, lmax, t, p)));
-    }
-    let eval = psh::swsh::SpinEvaluator::new(spin, lmax)?;
-    Ok(Box::new(move |t, p| {
-        let mut out = vec![Complex64::default(); psh::sh::num_coeffs(lmax)];
-        eval.values(t, p, &mut out)?;
-        Ok(out)
-    }))
-}
+/// Largest `points x (lmax+1)^3` of `psh eval swsh-points` (about a minute).
+const MAX_SWSH_POINTS_WORK: u128 = 1 << 36;
 
 #[derive(Clone, Copy, ValueEnum)]
 enum Kind {
@@ -846,7 +836,7 @@ fn eval_swsh(args: &SwshArgs) -> psh::Result<serde_json::Value> {
             reason: format!("psh eval swsh evaluates at most lmax = {MAX_SWSH_EVAL_DEGREE}"),
         });
     }
-    let values = pairs(spin_harmonics(args.spin, a.lmax)?(a.theta, a.phi)?);
+    let values = pairs(psh::swsh::swsh(args.spin, a.lmax, a.theta, a.phi)?);
     Ok(json!({"lmax": a.lmax, "spin": args.spin, "theta": a.theta, "phi": a.phi, "values": values}))
 }
 
@@ -997,6 +987,7 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
         planning,
         polarizers,
         &a.out,
+        a.valid_range,
         &TerminalProgress::new(),
     )?;
     if a.plan {
@@ -1280,10 +1271,19 @@ fn eval_swsh_points(a: &SwshPointsArgs) -> psh::Result<serde_json::Value> {
     let (count, points) = read_npy_rows(&a.points, 2)?;
     let n = psh::sh::num_coeffs(a.lmax);
     check_output_size("number of points", count.saturating_mul(n))?;
-    let harmonics = spin_harmonics(a.spin, a.lmax)?;
+    let work = count as u128 * (a.lmax as u128 + 1).pow(3);
+    if work > MAX_SWSH_POINTS_WORK {
+        return Err(Error::InvalidArgument {
+            name: "points x (lmax+1)^3",
+            value: work.to_string(),
+            reason: format!(
+                "psh eval swsh-points evaluates at most {MAX_SWSH_POINTS_WORK} (about a minute)"
+            ),
+        });
+    }
     let mut out = Vec::with_capacity(count * n);
     for p in points.chunks_exact(2) {
-        out.extend(harmonics(p[0], p[1])?);
+        out.extend(psh::swsh::swsh(a.spin, a.lmax, p[0], p[1])?);
     }
     let shape = [count as u64, n as u64, 2];
     psh::io::write_npy(&a.output, &shape, pairs_flat(&out))?;

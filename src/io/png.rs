@@ -12,7 +12,11 @@
 //!   angle of polarization `chi = atan2(s2, s1) / 2` as hue (red at `chi = -90` degrees
 //!   through the colour circle to `+90`), brightness the degree of polarization.
 //!
-//! Texels off a cube cross are black.
+//! Texels off a cube cross are black. Texels that break PSH (70) (`s0 >= |(s1, s2, s3)|`,
+//! which band-limited light can break) get a colour of their own instead of being clipped
+//! into "dark" or "unpolarized": [`UNPHYSICAL`] (magenta) in `s0` where a channel has
+//! `s0 < 0`, and in the degree of polarization where the luminance's `s0 < 0` or its DoP
+//! exceeds 1; white (which the fully saturated hues never are) in the angle picture there.
 
 use super::texels::{check_stokes_output, StokesTexels};
 use super::{io_error, malformed};
@@ -20,6 +24,9 @@ use crate::error::{Error, Result};
 use crate::geometry::image_grid::PixelGrid;
 use crate::map::StokesMap;
 use std::path::{Path, PathBuf};
+
+/// The colour of texels that break PSH (70) in the `s0` and DoP pictures (magenta).
+pub const UNPHYSICAL: [u8; 3] = [255, 0, 255];
 
 /// Writes an 8-bit RGB image (`rgb` row-major, `width * height` pixels).
 pub fn write_png(
@@ -170,7 +177,9 @@ fn write_texel_pngs(
     };
 
     let exposure = 1.0 / quantile_abs(&on_values(0), 0.99);
+    let negative = |i: usize| (0..texels.channels()).any(|c| texels.get(c, i)[0] < 0.0);
     save("s0", &|i| match texels.channels() {
+        _ if negative(i) => UNPHYSICAL,
         3 => [0, 1, 2].map(|c| srgb8(exposure * texels.get(c, i)[0])),
         _ => [srgb8(exposure * lum[i][0]); 3],
     })?;
@@ -188,8 +197,21 @@ fn write_texel_pngs(
             0.0
         }
     };
-    save("dop", &|i| [srgb8(dop(i)); 3])?;
+    let unphysical = |i: usize| {
+        let s = lum[i];
+        s[0] < 0.0 || s[1].hypot(s[2]).hypot(s[3]) > s[0]
+    };
+    save("dop", &|i| {
+        if unphysical(i) {
+            UNPHYSICAL
+        } else {
+            [srgb8(dop(i)); 3]
+        }
+    })?;
     save("aop", &|i| {
+        if unphysical(i) {
+            return [255; 3];
+        }
         let chi = 0.5 * lum[i][2].atan2(lum[i][1]);
         hue(chi / std::f64::consts::PI + 0.5, dop(i))
     })?;
@@ -268,5 +290,34 @@ mod tests {
         }
         let e = write_png(dir.join("no/such/dir.png"), 1, 1, &[[0; 3]]).unwrap_err();
         assert!(e.to_string().contains("dir.png"), "{e}");
+    }
+
+    /// Pixels that break PSH (70) are flagged, not clipped: a valid pixel, one with
+    /// `s0 < 0`, one with DoP 2 (one channel).
+    #[test]
+    fn unphysical_pixels_have_their_own_colour() {
+        let dir = std::env::temp_dir().join(format!("psh-png-flags-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let image = vec![vec![
+            [1.0, 0.5, 0.0, 0.0],
+            [-0.5, 0.0, 0.0, 0.0],
+            [1.0, 0.0, 2.0, 0.0],
+        ]];
+        let paths = write_stokes_pngs(&image, &[true; 3], 3, 1, dir.join("f")).unwrap();
+        let pixels = |name: &str| -> Vec<[u8; 3]> {
+            let p = paths.iter().find(|p| p.ends_with(name)).unwrap();
+            let mut reader = ::png::Decoder::new(std::fs::File::open(p).unwrap())
+                .read_info()
+                .unwrap();
+            let mut buf = vec![0; reader.output_buffer_size()];
+            reader.next_frame(&mut buf).unwrap();
+            buf[..9].chunks(3).map(|c| [c[0], c[1], c[2]]).collect()
+        };
+        let (s0, dop, aop) = (pixels("f_s0.png"), pixels("f_dop.png"), pixels("f_aop.png"));
+        assert_ne!(s0[0], UNPHYSICAL);
+        assert_eq!(s0[1], UNPHYSICAL);
+        assert_eq!([dop[0], dop[1], dop[2]], [[188; 3], UNPHYSICAL, UNPHYSICAL]);
+        assert_eq!([aop[1], aop[2]], [[255; 3], [255; 3]]);
+        assert_ne!(aop[0], [255; 3]);
     }
 }

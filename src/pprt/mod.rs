@@ -31,7 +31,9 @@ pub use mesh::Mesh;
 pub use plan::{tangent_plane_visibility, MaterialPlan, Plan, Reason, StokesEvidence};
 pub use reference::{Fidelity, Reference, ReferenceSettings, Workspace};
 pub use reflected::{high_order_kernel, reflected_pbrdf, reflected_radiance};
-pub use render::{background, primary_hits, render_frame, vertex_stokes, StokesImage};
+pub use render::{
+    background, primary_hits, render_frame, vertex_stokes, StokesImage, UnphysicalPixels,
+};
 pub use scene::{Camera, EnvironmentSource, Hit, Scene, SceneMaterial, SceneObject};
 pub use settings::{Planning, TransferSettings, Visibility, MAX_L_HIGH, MAX_L_LOW};
 pub use sky::RayleighSky;

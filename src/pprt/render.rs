@@ -14,7 +14,7 @@ use super::transfer::VertexTransfer;
 use crate::error::{check_len, Result};
 use crate::geometry::frame::{Frame, FrameField, PerspectiveFrameField};
 use crate::polarized::{PshEvaluator, PshVector};
-use crate::stokes::StokesVector;
+use crate::stokes::{StokesComponents, StokesVector};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
@@ -60,6 +60,55 @@ impl StokesImage {
             .iter()
             .map(|s| 0.5 * (s[0] + s[1] * c2 + s[2] * s2))
             .collect())
+    }
+}
+
+/// Pixels of a [`StokesImage`] per channel that break PSH (70), `s0 >= |(s1, s2, s3)|`:
+/// on surfaces and in the sky (the environment seen directly).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "apps", derive(serde::Serialize))]
+pub struct UnphysicalPixels {
+    /// Pixels with `s0 < 0` per channel, on surfaces.
+    pub surface_s0_negative: [usize; 3],
+    /// Pixels with `s0 >= 0` and `|(s1, s2, s3)| > s0` (DoP above 1) per channel, on
+    /// surfaces.
+    pub surface_dop_above_one: [usize; 3],
+    /// As `surface_s0_negative`, in the sky.
+    pub sky_s0_negative: [usize; 3],
+    /// As `surface_dop_above_one`, in the sky.
+    pub sky_dop_above_one: [usize; 3],
+}
+
+impl StokesImage {
+    /// The pixels that break PSH (70), per channel, on surfaces and in the sky.
+    pub fn unphysical(&self) -> UnphysicalPixels {
+        let mut n = UnphysicalPixels::default();
+        for (c, channel) in self.channels.iter().enumerate().take(3) {
+            for (s, &surface) in channel.iter().zip(&self.surface) {
+                let p = s[1].hypot(s[2]).hypot(s[3]);
+                let (negative, above) = if surface {
+                    (&mut n.surface_s0_negative, &mut n.surface_dop_above_one)
+                } else {
+                    (&mut n.sky_s0_negative, &mut n.sky_dop_above_one)
+                };
+                if s[0] < 0.0 {
+                    negative[c] += 1;
+                } else if p > s[0] {
+                    above[c] += 1;
+                }
+            }
+        }
+        n
+    }
+
+    /// Every pixel's Stokes vector replaced by the nearest one satisfying PSH (70)
+    /// ([`StokesComponents::nearest_physical`], PSH Fig. 22). Error: a non-finite
+    /// component.
+    pub fn to_nearest_physical(&mut self) -> Result<()> {
+        for s in self.channels.iter_mut().flatten() {
+            *s = StokesComponents::new(*s)?.nearest_physical().to_array();
+        }
+        Ok(())
     }
 }
 

@@ -35,6 +35,7 @@ mod components;
 mod field;
 mod mueller;
 mod mueller_field;
+mod valid_range;
 mod vector;
 
 pub use complex_pair::{complex_pair, from_complex_pair};

@@ -18,6 +18,15 @@ use std::f64::consts::PI;
 pub fn checks() -> Vec<Check> {
     vec![
         Check {
+            id: "stokes.valid_range_projection",
+            source: "PSH (70), Fig. 22",
+            description: "the nearest Stokes vector satisfying PSH (70) (StokesComponents::nearest_physical) vs Moreau's conditions for the projection onto the second-order cone (result in the cone, residual in the polar cone, the two orthogonal) and its distance vs 2,000 points of the cone, 2,000 random vectors (most invalid)",
+            // Relative to |z|: a hypot, a halving and a scaling per component.
+            tolerance: 1e-14,
+            proof: Some("proofs/stokes-valid-range.md"),
+            run: valid_range_projection,
+        },
+        Check {
             id: "stokes.frame_change",
             source: "PSH (14)",
             description: "Stokes components read in a rotated frame vs the Stokes parameters of the Jones field projected on that frame, random fields and angles",
@@ -409,6 +418,45 @@ fn mueller_transform() -> Result<f64> {
         let want = coherency_stokes(&(t * j * t.adjoint()), &go);
         // Relative to the largest entry times the input's s0 (|M s| <= 4 |M|max s0).
         worst = worst.max(max_diff(&out.to_array(), &want) / (scale * j.trace().re));
+    }
+    Ok(worst)
+}
+
+/// `stokes.valid_range_projection`: Moreau's characterization of the projection onto
+/// `K = {s0 >= |v|}` (`proofs/stokes-valid-range.md`), and minimality against samples of
+/// `K`, relative to `|z|`.
+fn valid_range_projection() -> Result<f64> {
+    let n = 2000;
+    let r = pseudo_random(8 * n, 70);
+    let cone: Vec<Vector4<f64>> = r[4 * n..]
+        .chunks_exact(4)
+        .map(|c| {
+            // A point of K: s0 >= |v|, some on the boundary.
+            let v = Vector3::new(c[1], c[2], c[3]);
+            Vector4::new(v.norm() * (1.0 + c[0].max(0.0)), v.x, v.y, v.z)
+        })
+        .collect();
+    let mut worst = 0.0f64;
+    for c in r[..4 * n].chunks_exact(4) {
+        let z = Vector4::new(c[0], 2.0 * c[1], 2.0 * c[2], 2.0 * c[3]);
+        let y = StokesComponents::from_vector(z)?
+            .nearest_physical()
+            .vector();
+        let d = z - y;
+        let norm = |w: &Vector4<f64>| Vector3::new(w[1], w[2], w[3]).norm();
+        let scale = z.norm();
+        let in_cone = (norm(&y) - y[0]).max(0.0);
+        let residual_in_polar = (d[0] + norm(&d)).max(0.0);
+        let orthogonal = y.dot(&d).abs() / (scale * scale);
+        let nearest = cone
+            .iter()
+            .map(|w| (d.norm() - (z - w).norm()).max(0.0))
+            .fold(0.0, f64::max);
+        worst = worst
+            .max(in_cone / scale)
+            .max(residual_in_polar / scale)
+            .max(orthogonal)
+            .max(nearest / scale);
     }
     Ok(worst)
 }
