@@ -381,7 +381,7 @@ fn the_valid_range_projection_leaves_no_unphysical_pixel() {
             &scene,
             settings,
             Planning::Tolerance(1e-3),
-            &[],
+            &[0.0],
             &dir.join(name),
             valid,
             &psh::progress::Silent,
@@ -398,6 +398,18 @@ fn the_valid_range_projection_leaves_no_unphysical_pixel() {
         "{counted:?}"
     );
     assert_eq!(valid.unphysical(), UnphysicalPixels::default());
+    // Through a polarizer a negative intensity is flagged; valid vectors pass none.
+    let flagged = |name: &str| {
+        let file = std::fs::File::open(dir.join(name).join("polarizer_0.png")).unwrap();
+        let mut reader = png::Decoder::new(file).read_info().unwrap();
+        let mut buf = vec![0; reader.output_buffer_size()];
+        reader.next_frame(&mut buf).unwrap();
+        buf.chunks(3)
+            .filter(|p| *p == psh::io::UNPHYSICAL.as_slice())
+            .count()
+    };
+    assert!(flagged("raw") > 0);
+    assert_eq!(flagged("valid"), 0);
     for (a, b) in raw
         .channels
         .iter()

@@ -78,7 +78,8 @@ pub fn render_job(
     progress: &dyn Progress,
 ) -> Result<(RenderReport, StokesImage)> {
     // The image with its files and pictures, before any work.
-    crate::io::check_stokes_output(scene.camera().width * scene.camera().height, 3)?;
+    let cam = scene.camera();
+    crate::io::check_stokes_output(cam.width.saturating_mul(cam.height), 3)?;
     std::fs::create_dir_all(out).map_err(|e| Error::Io {
         path: out.to_path_buf(),
         source: e,
@@ -292,8 +293,12 @@ fn write_polarizer_png(image: &StokesImage, deg: f64, out: &Path) -> Result<Path
     let mut s0: Vec<f64> = image.channels[1].iter().map(|s| s[0].abs()).collect();
     s0.sort_by(f64::total_cmp);
     let exposure = 1.0 / s0[(0.99 * (s0.len() - 1) as f64) as usize].max(1e-300);
+    // A negative intensity through the polarizer breaks PSH (70): flagged, not black.
     let rgb: Vec<[u8; 3]> = (0..image.width * image.height)
-        .map(|k| [0, 1, 2].map(|c| srgb8(2.0 * exposure * through[c][k])))
+        .map(|k| match (0..3).any(|c| through[c][k] < 0.0) {
+            true => crate::io::UNPHYSICAL,
+            false => [0, 1, 2].map(|c| srgb8(2.0 * exposure * through[c][k])),
+        })
         .collect();
     let path = out.join(format!("polarizer_{deg}.png"));
     write_png(&path, image.width, image.height, &rgb)?;
@@ -310,7 +315,8 @@ pub struct RenderReport {
     /// convolution (the high orders), `None` without high orders.
     pub high_order_projection_residual_per_material: Vec<Option<f64>>,
     /// Pixels breaking PSH (70) per channel before any projection (in the pictures:
-    /// magenta in `s0` and `dop`, white in `aop`).
+    /// magenta in `s0`, `dop` and where a polarizer passes a negative intensity, white in
+    /// `aop`).
     pub unphysical_pixels: UnphysicalPixels,
     pub times_s: Times,
     pub pictures: Vec<PathBuf>,

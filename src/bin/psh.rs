@@ -1118,7 +1118,7 @@ fn reconstruct(a: &ReconstructArgs) -> psh::Result<serde_json::Value> {
     };
     let v = psh::io::read_psh_npz(&a.input)?;
     // The map with its files and pictures, before the map is made.
-    psh::io::check_stokes_output(layout.width() * layout.height(), v.channels())?;
+    psh::io::check_stokes_output(layout.width().saturating_mul(layout.height()), v.channels())?;
     // A map is indexed by the direction towards the source.
     let map = StokesMap::reconstruct(&v.converted(FieldArgument::TowardsSource), layout)?;
     let written = psh::io::all_or_nothing(std::slice::from_ref(&a.input), || {

@@ -106,12 +106,22 @@ fn quantile_abs(values: &[f64], q: f64) -> f64 {
     }
 }
 
-/// Luminance of one texel's channel values.
-fn luminance(values: &[f64]) -> f64 {
-    match values.len() {
-        3 => 0.2126 * values[0] + 0.7152 * values[1] + 0.0722 * values[2],
-        n => values.iter().sum::<f64>() / n as f64,
+/// Luminance of texel `i`'s four components over its channels (Rec. 709 weights for
+/// three channels, the mean otherwise).
+fn luminance(texels: &StokesTexels, i: usize) -> [f64; 4] {
+    let nch = texels.channels();
+    let mut lum = [0.0; 4];
+    for c in 0..nch {
+        let w = match nch {
+            3 => [0.2126, 0.7152, 0.0722][c],
+            n => 1.0 / n as f64,
+        };
+        let s = texels.get(c, i);
+        for p in 0..4 {
+            lum[p] += w * s[p];
+        }
     }
+    lum
 }
 
 /// Writes `{prefix}_s0.png`, `_s1`, `_s2`, `_s3`, `_dop` and `_aop` for `map`; returns
@@ -151,12 +161,7 @@ fn write_texel_pngs(
     let n = texels.len();
     crate::error::check_len("pixel mask", n, on.len())?;
     check_stokes_output(n, texels.channels())?;
-    let lum: Vec<[f64; 4]> = (0..n)
-        .map(|i| {
-            let values: Vec<[f64; 4]> = (0..texels.channels()).map(|c| texels.get(c, i)).collect();
-            [0, 1, 2, 3].map(|p| luminance(&values.iter().map(|s| s[p]).collect::<Vec<_>>()))
-        })
-        .collect();
+    let lum: Vec<[f64; 4]> = (0..n).map(|i| luminance(&texels, i)).collect();
     let on_values = |p: usize| -> Vec<f64> {
         (0..lum.len())
             .filter(|&i| on[i])
