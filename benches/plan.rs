@@ -11,7 +11,7 @@ use nalgebra::Vector3;
 use psh::geometry::direction_angles;
 use psh::pprt::Plan;
 use psh::pprt::TransferSettings;
-use psh::pprt::{background, primary_hits, render_frame};
+use psh::pprt::{direct_light, primary_hits, render_frame};
 use psh::pprt::{precompute_planned, ray_visibility, VisibilityRays};
 use psh::pprt::{Hit, Scene};
 use psh::sh::num_coeffs;
@@ -115,7 +115,7 @@ fn plan(c: &mut Criterion) {
         })
         .collect();
     let hits = primary_hits(&scene);
-    let bg = background(&scene, &hits).unwrap();
+    let bg = direct_light(&scene, &hits).unwrap();
     let hidden = psh::progress::Silent;
     let planned = || {
         let t = precompute_planned(&scene, &plan, &hidden).unwrap();

@@ -6,7 +6,7 @@ use psh::io::{data_dir, load_scene};
 use psh::pprt::precompute_planned;
 use psh::pprt::Plan;
 use psh::pprt::TransferSettings;
-use psh::pprt::{background, primary_hits, render_frame};
+use psh::pprt::{direct_light, primary_hits, render_frame};
 
 fn pprt(c: &mut Criterion) {
     if !data_dir().join("polarsh/buddha.obj").exists() {
@@ -37,7 +37,7 @@ fn pprt(c: &mut Criterion) {
     let transfer = precompute_planned(&scene, &plan, &hidden).unwrap();
     let high = plan.high_fields();
     let hits = primary_hits(&scene);
-    let bg = background(&scene, &hits).unwrap();
+    let bg = direct_light(&scene, &hits).unwrap();
     // One 512 x 512 frame after precomputation (vertex evaluation with the high orders,
     // camera frames, interpolation).
     grp.bench_function("runtime_frame/buddha_512", |b| {

@@ -1048,3 +1048,41 @@ fn eval_sht_refuses_huge_grids_before_allocating() {
         assert!(e.contains("grid values") && e.contains("134250498"), "{e}");
     }
 }
+
+/// `render --sun` and `--window` reach the report (issue 24): the built-in sky carries its
+/// sun as a directional light unless told otherwise; an unknown window or sun is a clean
+/// error naming it, and a sun asked of a scene without the analytic sky is refused.
+#[test]
+fn render_reports_its_sun_and_window() {
+    let dir = std::env::temp_dir().join(format!("psh_cli_sun_{}", std::process::id()));
+    let out = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    let report = |name: &str| -> serde_json::Value {
+        let text = std::fs::read_to_string(dir.join(name).join("report.json")).unwrap();
+        serde_json::from_str(&text).unwrap()
+    };
+    let base = ["render", "--size", "24x18", "--l-high", "0", "--rays", "16"];
+    let run = |extra: &[&str], name: &str| {
+        let mut args: Vec<String> = base.iter().map(|s| s.to_string()).collect();
+        args.extend(extra.iter().map(|s| s.to_string()));
+        args.extend(["--out".to_string(), out(name)]);
+        let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+        psh(&refs)
+    };
+    assert!(run(&[], "default").status.success());
+    let r = report("default");
+    assert_eq!(r["settings"]["sun"], "directional");
+    assert_eq!(r["settings"]["window"], "none");
+    assert!(run(&["--sun", "lobe", "--window", "hann"], "lobe")
+        .status
+        .success());
+    let r = report("lobe");
+    assert_eq!(r["settings"]["sun"], "lobe");
+    assert_eq!(r["settings"]["window"], "hann");
+    for (flag, value) in [("--window", "hamming"), ("--sun", "disk")] {
+        let o = run(&[flag, value], "bad");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains(value), "{err}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

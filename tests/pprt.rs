@@ -265,7 +265,7 @@ material = "gold"
 #[test]
 fn rotating_everything_together_leaves_the_image_unchanged() {
     use psh::polarized::PshRotation;
-    use psh::pprt::{background, primary_hits, render_frame};
+    use psh::pprt::{direct_light, primary_hits, render_frame};
     use psh::pprt::{Camera, Scene, SceneObject};
     let l = 3;
     // The background of both from the coefficients (the built-in sky is not turned).
@@ -307,7 +307,7 @@ fn rotating_everything_together_leaves_the_image_unchanged() {
     let render = |s: &Scene| {
         let t = precompute(s, settings).unwrap();
         let hits = primary_hits(s);
-        let bg = background(s, &hits).unwrap();
+        let bg = direct_light(s, &hits).unwrap();
         let none = vec![None; s.materials().len()];
         (render_frame(s, &t, &none, &hits, &bg).unwrap(), hits)
     };
@@ -341,10 +341,10 @@ fn rotating_everything_together_leaves_the_image_unchanged() {
 /// The background is the environment itself, never the transfer's band-limited copy
 /// (issue 24): for the analytic sky the same at every band limit and physical everywhere
 /// (`s0 >= 0`, DoP <= 1: the Rayleigh sky's DoP is `sin^2 g / (1 + cos^2 g)`), while the
-/// sky cut to l = 4 has pixels with `s0 < 0` or DoP > 1 in this view.
+/// sky with its sun lobe cut to l = 4 has pixels with `s0 < 0` or DoP > 1 in this view.
 #[test]
 fn the_background_is_the_environment_itself() {
-    use psh::pprt::{background, primary_hits, EnvironmentSource};
+    use psh::pprt::{direct_light, primary_hits, EnvironmentSource};
     let unphysical = |bg: &[[[f64; 4]; 3]]| {
         bg.iter()
             .flatten()
@@ -355,15 +355,17 @@ fn the_background_is_the_environment_itself() {
     let high = builtin_scene(9, 48, 36).unwrap();
     let hits = primary_hits(&low);
     let (a, b) = (
-        background(&low, &hits).unwrap(),
-        background(&high, &hits).unwrap(),
+        direct_light(&low, &hits).unwrap(),
+        direct_light(&high, &hits).unwrap(),
     );
     assert_eq!(a, b);
     let sky_pixels = hits.iter().filter(|h| h.is_none()).count();
     assert!(sky_pixels > 100, "{sky_pixels}");
     assert_eq!(unphysical(&a), 0);
-    let cut = EnvironmentSource::Coefficients(low.environment().clone());
-    let band_limited = background(&low.with_source(cut).unwrap(), &hits).unwrap();
+    // The sky with its sun lobe, cut to l = 4, rings into unphysical pixels.
+    let lobe = low.with_sun(psh::pprt::Sun::Lobe).unwrap();
+    let cut = EnvironmentSource::Coefficients(lobe.environment().clone());
+    let band_limited = direct_light(&lobe.with_source(cut).unwrap(), &hits).unwrap();
     assert!(unphysical(&band_limited) > 0);
 }
 
@@ -535,7 +537,7 @@ fn ablation_writes_three_variants_side_by_side() {
 /// wrong sizes, a material or workspace the reference does not have.
 #[test]
 fn mismatched_runtime_inputs_are_errors() {
-    use psh::pprt::{background, primary_hits, render_frame, vertex_stokes};
+    use psh::pprt::{direct_light, primary_hits, render_frame, vertex_stokes};
     use psh::pprt::{Fidelity, Reference, ReferenceSettings};
     let scene = builtin_scene(3, 8, 6).unwrap();
     let settings = TransferSettings {
@@ -551,7 +553,7 @@ fn mismatched_runtime_inputs_are_errors() {
     let e = vertex_stokes(&scene, &transfer, &none[..1]).unwrap_err();
     assert!(e.to_string().contains("high orders"), "{e}");
     let hits = primary_hits(&scene);
-    let bg = background(&scene, &hits).unwrap();
+    let bg = direct_light(&scene, &hits).unwrap();
     let e = render_frame(&scene, &transfer, &none, &hits[..10], &bg).unwrap_err();
     assert!(e.to_string().contains("primary hits"), "{e}");
     let r = Reference::new(

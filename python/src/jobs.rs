@@ -19,13 +19,16 @@ fn to_python<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bo
 /// or the built-in scene at `width x height`; `l_low`, `l_high`, `rays` override the
 /// scene's settings, `shadows=False` turns visibility off, `tolerance` plans what the
 /// scene needs (`None`: compute everything), `valid_range=True` projects every pixel onto
-/// the physically valid range PSH (70) (PSH Fig. 22). Returns `(stokes, report)`: the image
+/// the physically valid range PSH (70) (PSH Fig. 22), `window` ("none", "hann",
+/// "lanczos") tapers the environment's band limit, `sun` ("lobe", "directional") says how
+/// the analytic sky carries its sun (the scene's by default). Returns `(stokes, report)`: the image
 /// `(3, height, width, 4)` (RGB, Stokes components in the camera's frames, row 0 at the
 /// top) and the report as a dict.
 #[pyfunction]
 #[pyo3(signature = (scene = None, out = std::path::PathBuf::from("psh-out"), width = 480, height = 360,
     l_low = None, l_high = None, rays = None, shadows = true, tolerance = Some(1e-3),
-    polarizers = vec![0.0, 45.0, 90.0, 135.0], valid_range = false))]
+    polarizers = vec![0.0, 45.0, 90.0, 135.0], valid_range = false,
+    window = "none".to_string(), sun = None))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -40,6 +43,8 @@ fn render<'py>(
     tolerance: Option<f64>,
     polarizers: Vec<f64>,
     valid_range: bool,
+    window: String,
+    sun: Option<String>,
 ) -> PyResult<(Bound<'py, PyArrayDyn<f64>>, Bound<'py, PyAny>)> {
     checked_len("image", &[3, width, height, 4])?;
     let planning = tolerance.map_or(Planning::Full, Planning::Tolerance);
@@ -48,10 +53,14 @@ fn render<'py>(
             let (scene, settings, _) = psh::apps::render_job::job_scene(
                 scene.as_deref(),
                 (width, height),
-                l_low,
-                l_high,
-                rays,
-                shadows,
+                &psh::apps::render_job::SceneOverrides {
+                    l_low,
+                    l_high,
+                    rays,
+                    shadows,
+                    window: psh::sh::Window::from_name(&window)?,
+                    sun: sun.as_deref().map(psh::pprt::Sun::from_name).transpose()?,
+                },
             )?;
             psh::apps::render_job::render_job(
                 &scene,

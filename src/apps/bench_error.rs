@@ -12,7 +12,7 @@ use crate::error::{Error, Result};
 use crate::io::write_text;
 use crate::pprt::plan::Plan;
 use crate::pprt::reference::{Fidelity, Reference, ReferenceSettings};
-use crate::pprt::render::{background, primary_hits, render_frame, StokesImage};
+use crate::pprt::render::{direct_light, primary_hits, render_frame, StokesImage};
 use crate::pprt::scene::Scene;
 use crate::pprt::settings::{Planning, TransferSettings, Visibility};
 use crate::pprt::transfer::precompute_planned;
@@ -153,7 +153,7 @@ pub fn bench_error(
         source: e,
     })?;
     let hits = primary_hits(scene);
-    let bg = background(scene, &hits)?;
+    let direct = direct_light(scene, &hits)?;
     let reference = |samples, fidelity, seed| -> Result<(StokesImage, f64)> {
         let r = Reference::new(
             scene,
@@ -178,7 +178,7 @@ pub fn bench_error(
             let high = plan.high_fields();
             let precompute_s = t.elapsed().as_secs_f64();
             let t = Instant::now();
-            let image = render_frame(scene, &transfer, &high, &hits, &bg)?;
+            let image = render_frame(scene, &transfer, &high, &hits, &direct)?;
             let frame_s = t.elapsed().as_secs_f64();
             rows.push(Row {
                 method: "pprt",

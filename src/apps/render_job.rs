@@ -7,37 +7,64 @@ use crate::io::exr::write_stokes_image;
 use crate::io::png::{srgb8, write_png, write_stokes_pngs};
 use crate::polarized::SparsePshMatrix;
 use crate::pprt::plan::Plan;
-use crate::pprt::render::{background, primary_hits, render_frame, StokesImage, UnphysicalPixels};
+use crate::pprt::render::{
+    direct_light, primary_hits, render_frame, StokesImage, UnphysicalPixels,
+};
 use crate::pprt::scene::Scene;
 use crate::pprt::settings::{Planning, TransferSettings, Visibility};
 use crate::pprt::transfer::precompute_planned;
+use crate::pprt::Sun;
 use crate::progress::Progress;
+use crate::sh::Window;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+/// What a render job changes of a scene: band limits and rays where given, shadows off
+/// when `shadows` is false, the environment's window, and the sky's sun where given.
+#[derive(Clone, Copy, Debug)]
+pub struct SceneOverrides {
+    pub l_low: Option<usize>,
+    pub l_high: Option<usize>,
+    pub rays: Option<usize>,
+    pub shadows: bool,
+    pub window: Window,
+    pub sun: Option<Sun>,
+}
+
+impl Default for SceneOverrides {
+    /// Nothing changed: the scene's own settings, shadows on, no window.
+    fn default() -> Self {
+        Self {
+            l_low: None,
+            l_high: None,
+            rays: None,
+            shadows: true,
+            window: Window::None,
+            sun: None,
+        }
+    }
+}
+
 /// The scene and settings of a render job: the TOML scene file `scene` (its settings),
-/// or the built-in scene at `size` (width, height) with the default settings; `l_low`,
-/// `l_high` and `rays` override them where given, `shadows = false` turns visibility off.
-/// The settings are checked ([`TransferSettings::check`]) before the scene is loaded or
-/// its environment projected. Returns also the scene's name for messages.
+/// or the built-in scene at `size` (width, height) with the default settings, changed
+/// as `overrides` say. The settings are checked ([`TransferSettings::check`]) before the
+/// scene is loaded or its environment projected. Returns also the scene's name for
+/// messages. Error: a sun asked of a scene without the analytic sky.
 pub fn job_scene(
     scene: Option<&Path>,
     size: (usize, usize),
-    l_low: Option<usize>,
-    l_high: Option<usize>,
-    rays: Option<usize>,
-    shadows: bool,
+    overrides: &SceneOverrides,
 ) -> Result<(Scene, TransferSettings, String)> {
     let file_settings = match scene {
         Some(path) => crate::io::scene_settings(path)?,
         None => TransferSettings::default(),
     };
     let settings = TransferSettings {
-        l_low: l_low.unwrap_or(file_settings.l_low),
-        l_high: l_high.unwrap_or(file_settings.l_high),
-        rays: rays.unwrap_or(file_settings.rays),
-        visibility: if shadows {
+        l_low: overrides.l_low.unwrap_or(file_settings.l_low),
+        l_high: overrides.l_high.unwrap_or(file_settings.l_high),
+        rays: overrides.rays.unwrap_or(file_settings.rays),
+        visibility: if overrides.shadows {
             file_settings.visibility
         } else {
             Visibility::Off
@@ -45,18 +72,21 @@ pub fn job_scene(
     };
     settings.check()?;
     let lmax = settings.l_high.max(settings.l_low);
-    Ok(match scene {
+    let (scene, name) = match scene {
         Some(path) => (
             crate::io::load_scene(path, lmax)?.0,
-            settings,
             path.display().to_string(),
         ),
         None => (
             crate::pprt::builtin_scene(lmax, size.0, size.1)?,
-            settings,
             "the built-in scene".to_string(),
         ),
-    })
+    };
+    let scene = match overrides.sun {
+        Some(sun) => scene.with_sun(sun)?,
+        None => scene,
+    };
+    Ok((scene.windowed(overrides.window), settings, name))
 }
 
 /// Renders `scene` with `settings` into `out` (created), planned as `planning` says
@@ -102,10 +132,10 @@ pub fn render_job(
     let high = plan.high_fields();
     let t1 = Instant::now();
     let hits = primary_hits(scene);
-    let bg = background(scene, &hits)?;
+    let direct = direct_light(scene, &hits)?;
     let t_hits = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
-    let mut image = render_frame(scene, &transfer, &high, &hits, &bg)?;
+    let mut image = render_frame(scene, &transfer, &high, &hits, &direct)?;
     let unphysical = image.unphysical();
     if valid_range {
         image.to_nearest_physical()?;
@@ -141,6 +171,8 @@ pub fn render_job(
                 rays_per_vertex: settings.rays,
                 shadows: settings.shadows(),
                 environment_lmax: scene.environment().lmax(),
+                window: scene.window().name(),
+                sun: scene.source().sun().map(Sun::name),
                 image: [cam.width, cam.height],
                 polarizers_deg: polarizers.to_vec(),
                 valid_range_projection: valid_range,
@@ -169,7 +201,7 @@ pub fn render_job(
             times_s: Times {
                 plan: t_plan,
                 precompute: t_pre,
-                primary_visibility_and_background: t_hits,
+                primary_visibility_and_direct_light: t_hits,
                 frame: t_frame,
                 pictures: t_out,
             },
@@ -330,6 +362,10 @@ pub struct ReportSettings {
     pub rays_per_vertex: usize,
     pub shadows: bool,
     pub environment_lmax: usize,
+    /// The window of the environment's band limit ([`crate::sh::Window`]).
+    pub window: &'static str,
+    /// How the analytic sky carries its sun ([`Sun`]; none for other environments).
+    pub sun: Option<&'static str>,
     /// Width and height in pixels.
     pub image: [usize; 2],
     pub polarizers_deg: Vec<f64>,
@@ -353,7 +389,7 @@ pub struct Counts {
 pub struct Times {
     pub plan: f64,
     pub precompute: f64,
-    pub primary_visibility_and_background: f64,
+    pub primary_visibility_and_direct_light: f64,
     pub frame: f64,
     pub pictures: f64,
 }

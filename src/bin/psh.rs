@@ -149,6 +149,14 @@ struct BenchErrorArgs {
     /// Samples per pixel of the ground truth.
     #[arg(long, default_value_t = 2048)]
     ground_truth_spp: usize,
+    /// How the analytic sky carries its sun (lobe or directional; the scene's by
+    /// default), as in render.
+    #[arg(long, value_parser = parse_sun)]
+    sun: Option<psh::pprt::Sun>,
+    /// Taper the environment's band limit (--lmax) by a window (none, hann, lanczos), as
+    /// in render; the rows below --lmax cut the windowed coefficients.
+    #[arg(long, default_value = "none", value_parser = parse_window)]
+    window: psh::sh::Window,
 }
 
 #[derive(Args)]
@@ -205,6 +213,18 @@ struct RenderArgs {
     /// s0 >= |(s1, s2, s3)| (PSH (70), Fig. 22): the nearest valid vector, AoLP kept.
     #[arg(long, conflicts_with = "ablation")]
     valid_range: bool,
+    /// Taper the environment's band limit by a window (none, hann, lanczos;
+    /// proofs/windowed-band-limits.md) before the transfer: less ringing, more blur.
+    #[arg(long, default_value = "none", value_parser = parse_window)]
+    window: psh::sh::Window,
+    /// How the analytic sky carries its sun: lobe (in the environment's PSH
+    /// coefficients) or directional (a directional light reflected exactly, with a shadow
+    /// ray; src/pprt/direct.rs). Default: the scene's.
+    #[arg(long, value_parser = parse_sun)]
+    sun: Option<psh::pprt::Sun>,
+    /// Print report.json's content (JSON) instead of a few lines for a person.
+    #[arg(long)]
+    json: bool,
 }
 
 impl Default for RenderArgs {
@@ -226,6 +246,9 @@ impl Default for RenderArgs {
             no_plan: false,
             tolerance: 1e-3,
             valid_range: false,
+            window: psh::sh::Window::None,
+            sun: None,
+            json: false,
         }
     }
 }
@@ -255,6 +278,10 @@ struct ConvolveArgs {
     /// Output .npz.
     #[arg(short, long)]
     output: PathBuf,
+    /// Taper the band limit by a window (none, hann, lanczos; psh::sh::Window,
+    /// proofs/windowed-band-limits.md): less ringing, more blur.
+    #[arg(long, default_value = "none", value_parser = parse_window)]
+    window: psh::sh::Window,
 }
 
 #[derive(Args)]
@@ -320,6 +347,10 @@ struct ProjectArgs {
     /// Output .npz.
     #[arg(short, long)]
     output: PathBuf,
+    /// Taper the band limit by a window (none, hann, lanczos; psh::sh::Window,
+    /// proofs/windowed-band-limits.md): less ringing, more blur.
+    #[arg(long, default_value = "none", value_parser = parse_window)]
+    window: psh::sh::Window,
 }
 
 #[derive(Args)]
@@ -352,6 +383,10 @@ struct ReconstructArgs {
     /// Output prefix: writes {prefix}_s0..s3.exr and {prefix}_{s0,s1,s2,s3,dop,aop}.png.
     #[arg(short, long)]
     output: String,
+    /// Taper the band limit by a window (none, hann, lanczos; psh::sh::Window,
+    /// proofs/windowed-band-limits.md): less ringing, more blur.
+    #[arg(long, default_value = "none", value_parser = parse_window)]
+    window: psh::sh::Window,
 }
 
 #[derive(Subcommand)]
@@ -661,7 +696,10 @@ fn main() -> ExitCode {
         Command::FilterReport(a) => return filter_report(&a),
         Command::Convolve(a) => convolve(&a),
         Command::Apply(a) => apply(&a),
-        Command::Render(a) => render(&a),
+        Command::Render(a) if !a.json => {
+            return print_table(render(&a).map(|(v, name)| render_summary(&v, &name, &a.out)))
+        }
+        Command::Render(a) => render(&a).map(|(v, _)| v),
         Command::LightsDemo(a) => return lights_demo(&a),
         Command::IsdReport(a) => return isd_report(&a),
         Command::BenchError(a) => bench_error(&a),
@@ -874,14 +912,14 @@ fn project(a: &ProjectArgs) -> psh::Result<serde_json::Value> {
     let inputs = psh::io::component_paths(&a.input)?;
     let (map, v) = writing(&inputs, &a.output, || {
         let map = psh::io::read_stokes_map(&a.input)?;
-        let v = map.project(codomain, a.lmax)?;
+        let v = map.project(codomain, a.lmax)?.windowed(a.window);
         psh::io::write_psh_npz(&a.output, &v)?;
         Ok((map, v))
     })?;
     Ok(json!({
         "input": a.input, "layout": [map.layout().height(), map.layout().width()],
         "channels": v.channels(), "lmax": v.lmax(), "codomain": codomain.name(),
-        "output": a.output,
+        "window": a.window.name(), "output": a.output,
     }))
 }
 
@@ -939,24 +977,29 @@ fn convolve_files(a: &ConvolveArgs) -> psh::Result<serde_json::Value> {
         (None, None) => unreachable!("clap requires --kernel or --kernel-table"),
     };
     let k = psh::polarized::kernel_coefficients(&kernel, v.lmax())?;
-    let out = k.convolve(&v)?;
+    let out = k.convolve(&v)?.windowed(a.window);
     psh::io::write_psh_npz(&a.output, &out)?;
     Ok(json!({
-        "input": a.input, "kernel": name, "lmax": v.lmax(),
+        "input": a.input, "kernel": name, "lmax": v.lmax(), "window": a.window.name(),
         "quadrature_error_estimate": k.error_estimate(), "output": a.output,
     }))
 }
 
-fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
+/// Runs `psh render`: the report as JSON and the scene's name.
+fn render(a: &RenderArgs) -> psh::Result<(serde_json::Value, String)> {
     let (w, h) = (a.size.width, a.size.height);
     let polarizers = &a.polarizer;
     let (scene, settings, name) = psh::apps::render_job::job_scene(
         a.scene.as_deref(),
         (w, h),
-        a.l_low,
-        a.l_high,
-        a.rays,
-        !a.no_shadows,
+        &psh::apps::render_job::SceneOverrides {
+            l_low: a.l_low,
+            l_high: a.l_high,
+            rays: a.rays,
+            shadows: !a.no_shadows,
+            window: a.window,
+            sun: a.sun,
+        },
     )?;
     eprintln!(
         "rendering {name} ({} triangles, l_low {}, l_high {}, {} rays per vertex) into {}",
@@ -974,7 +1017,7 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
             &a.out,
             &TerminalProgress::new(),
         )?;
-        return to_json(&report);
+        return Ok((to_json(&report)?, name));
     }
     let planning = if a.no_plan {
         psh::pprt::Planning::Full
@@ -996,7 +1039,97 @@ fn render(a: &RenderArgs) -> psh::Result<serde_json::Value> {
             outln!("  - {r}");
         }
     }
-    to_json(&report)
+    Ok((to_json(&report)?, name))
+}
+
+/// A render's report (or an ablation's) in a few lines for a person: the scene and
+/// settings, the times, the pixels that break PSH (70), where the pictures are.
+fn render_summary(v: &serde_json::Value, name: &str, out: &Path) -> String {
+    let f = |x: &serde_json::Value| x.as_f64().unwrap_or(0.0);
+    let mut text = String::new();
+    let mut line = |l: String| {
+        text.push_str(&l);
+        text.push('\n');
+    };
+    if let Some(variants) = v["variants"].as_array() {
+        line(format!(
+            "ablation of {name} (PSH Figs. 20, 21) in {}:",
+            out.display()
+        ));
+        for var in variants {
+            let t = &var["times_s"];
+            line(format!(
+                "  {}: precompute {:.2} s, frame {:.3} s",
+                var["variant"].as_str().unwrap_or("?"),
+                f(&t["precompute"]),
+                f(&t["frame"])
+            ));
+        }
+        line("  side by side: ablation_{s0,s1,s2,s3,dop,aop}.png; times in ablation.json".into());
+        return text;
+    }
+    let st = &v["settings"];
+    let image = &st["image"];
+    line(format!(
+        "rendered {name}, {} x {}: l_low {}, l_high {}, {} rays per vertex, shadows {}, sun {}, window {}",
+        image[0],
+        image[1],
+        st["l_low"],
+        st["l_high"],
+        st["rays_per_vertex"],
+        if st["shadows"].as_bool() == Some(true) { "on" } else { "off" },
+        st["sun"].as_str().unwrap_or("none (not the analytic sky)"),
+        st["window"].as_str().unwrap_or("none"),
+    ));
+    let t = &v["times_s"];
+    line(format!(
+        "  time: plan {:.2} s, precompute {:.2} s, per camera {:.2} s, frame {:.3} s, pictures {:.2} s",
+        f(&t["plan"]),
+        f(&t["precompute"]),
+        f(&t["primary_visibility_and_direct_light"]),
+        f(&t["frame"]),
+        f(&t["pictures"])
+    ));
+    let u = &v["unphysical_pixels"];
+    let pixels = (f(&image[0]) * f(&image[1])).max(1.0);
+    let count = |key: &str| -> (String, f64) {
+        let c: Vec<f64> = (0..3).map(|i| f(&u[key][i])).collect();
+        let worst = c.iter().fold(0.0f64, |a, &b| a.max(b));
+        (
+            format!("{} / {} / {}", c[0], c[1], c[2]),
+            100.0 * worst / pixels,
+        )
+    };
+    for (place, neg, dop) in [
+        (
+            "on surfaces",
+            "surface_s0_negative",
+            "surface_dop_above_one",
+        ),
+        ("in the sky", "sky_s0_negative", "sky_dop_above_one"),
+    ] {
+        let ((n, np), (d, dp)) = (count(neg), count(dop));
+        line(format!(
+            "  pixels breaking PSH (70) {place} (R / G / B): s0 < 0 {n} ({np:.2}%), DoP > 1 {d} ({dp:.2}%){}",
+            if st["valid_range_projection"].as_bool() == Some(true) {
+                ", projected onto the valid range"
+            } else if np + dp > 0.0 {
+                ", magenta in the pictures"
+            } else {
+                ""
+            }
+        ));
+    }
+    let pictures = v["pictures"].as_array().map_or(0, Vec::len);
+    line(format!(
+        "  {pictures} pictures in {}: render_s0.png (intensity), render_dop.png, render_aop.png, polarizer_*.png, render_s{{0,1,2,3}}.exr",
+        out.display()
+    ));
+    line(format!(
+        "  report: {} (or --json)",
+        out.join("report.json").display()
+    ));
+    text
 }
 
 /// A report as JSON.
@@ -1026,6 +1159,16 @@ fn parse_size(size: &str) -> psh::Result<ImageSize> {
             value: size.to_string(),
             reason: "expected WxH, e.g. 480x360".into(),
         })
+}
+
+/// A window by name ([`psh::sh::Window::from_name`]).
+fn parse_window(x: &str) -> psh::Result<psh::sh::Window> {
+    psh::sh::Window::from_name(x.trim())
+}
+
+/// A sun model by name ([`psh::pprt::Sun::from_name`]).
+fn parse_sun(x: &str) -> psh::Result<psh::pprt::Sun> {
+    psh::pprt::Sun::from_name(x.trim())
 }
 
 /// A finite angle in degrees.
@@ -1067,6 +1210,10 @@ fn bench_error(a: &BenchErrorArgs) -> psh::Result<serde_json::Value> {
             "the built-in scene".to_string(),
         ),
     };
+    if let Some(sun) = a.sun {
+        scene = scene.with_sun(sun)?;
+    }
+    let mut scene = scene.windowed(a.window);
     let cam = scene.camera().clone();
     scene.set_camera(psh::pprt::Camera {
         width: w,
@@ -1120,13 +1267,16 @@ fn reconstruct(a: &ReconstructArgs) -> psh::Result<serde_json::Value> {
     // The map with its files and pictures, before the map is made.
     psh::io::check_stokes_output(layout.width().saturating_mul(layout.height()), v.channels())?;
     // A map is indexed by the direction towards the source.
-    let map = StokesMap::reconstruct(&v.converted(FieldArgument::TowardsSource), layout)?;
+    let map = StokesMap::reconstruct(
+        &v.converted(FieldArgument::TowardsSource).windowed(a.window),
+        layout,
+    )?;
     let written = psh::io::all_or_nothing(std::slice::from_ref(&a.input), || {
         let mut written = psh::io::write_stokes_map(&map, format!("{}_s%d.exr", a.output))?;
         written.extend(psh::io::write_map_pngs(&map, &a.output)?);
         Ok(written)
     })?;
-    Ok(json!({"input": a.input, "lmax": v.lmax(), "written": written}))
+    Ok(json!({"input": a.input, "lmax": v.lmax(), "window": a.window.name(), "written": written}))
 }
 
 fn eval_wigner(a: &WignerArgs) -> psh::Result<serde_json::Value> {

@@ -5,6 +5,8 @@
 //! type = "sky"                  #   the analytic Rayleigh sky
 //! sun_elevation_deg = 35.0
 //! sun_azimuth_deg = 137.0
+//! sun = "directional"           # optional: or "lobe" (the sun in the sky's PSH
+//!                               #   coefficients; pprt::Sun)
 //! # type = "npz", path = "..."  #   a PSH coefficient vector (polarsh .npz, RGB)
 //! # type = "exr", path = "map_s%d.exr"   # a polarized environment map
 //! # up = "y"                    #   optional: the file's up axis is y (turned to +z)
@@ -50,7 +52,7 @@ use crate::polarized::{Codomain, FieldArgument, PshVector};
 use crate::pprt::mesh::Mesh;
 use crate::pprt::scene::{Camera, EnvironmentSource, Scene, SceneMaterial, SceneObject};
 use crate::pprt::settings::{TransferSettings, Visibility};
-use crate::pprt::sky::RayleighSky;
+use crate::pprt::sky::{RayleighSky, Sun};
 use nalgebra::{Rotation3, Vector3};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -66,12 +68,20 @@ struct SceneFile {
     mesh: Vec<MeshSpec>,
 }
 
+/// The sky's sun when a scene file does not say: a directional light (the built-in
+/// scene's choice, `docs/pprt.md`).
+fn default_sun() -> String {
+    Sun::Directional.name().into()
+}
+
 #[derive(Deserialize)]
 #[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
 enum EnvironmentSpec {
     Sky {
         sun_elevation_deg: f64,
         sun_azimuth_deg: f64,
+        #[serde(default = "default_sun")]
+        sun: String,
     },
     Npz {
         path: String,
@@ -286,8 +296,9 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
         EnvironmentSpec::Sky {
             sun_elevation_deg,
             sun_azimuth_deg,
+            sun,
         } => RayleighSky::new(sun_elevation_deg.to_radians(), sun_azimuth_deg.to_radians())
-            .map(EnvironmentSource::Sky)
+            .and_then(|sky| Ok(EnvironmentSource::Sky(sky.with_sun(Sun::from_name(sun)?))))
             .map_err(|e| field("environment", e))?,
         EnvironmentSpec::Npz { path: p, up } => {
             let v =

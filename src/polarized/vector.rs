@@ -4,7 +4,7 @@
 
 use super::{in_index_set, Codomain, FieldArgument, PshEvaluator};
 use crate::error::{check_len, finite_all, Error, Result};
-use crate::sh::{lm_index, num_coeffs};
+use crate::sh::{lm_index, num_coeffs, Window};
 use crate::stokes::StokesVector;
 use num_complex::Complex64;
 
@@ -225,6 +225,22 @@ impl PshVector {
         for c in 0..self.channels {
             let o = self.offset(c, 0);
             out.data[o..o + len].fill(0.0);
+        }
+        out
+    }
+
+    /// The coefficients tapered by `window` over this vector's degrees, `w_l f_lmp`
+    /// ([`Window`]; the same band limit): ringing traded for blur, commuting with
+    /// rotations and convolutions (`proofs/windowed-band-limits.md`).
+    pub fn windowed(&self, window: Window) -> PshVector {
+        let w = window.factors(self.lmax);
+        let np = self.codomain.components().len();
+        let mut out = self.clone();
+        for x in out.data.chunks_exact_mut(num_coeffs(self.lmax) * np) {
+            for (j, f) in x.chunks_exact_mut(np).enumerate() {
+                let wl = w[crate::sh::lm_of_index(j).0];
+                f.iter_mut().for_each(|v| *v *= wl);
+            }
         }
         out
     }

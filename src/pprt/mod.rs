@@ -5,7 +5,8 @@
 //! | items | what | source |
 //! |---|---|---|
 //! | [`Mesh`] | triangle meshes: procedural, OBJ | |
-//! | [`RayleighSky`] | analytic Rayleigh sky with a sun | Chandrasekhar §17 |
+//! | [`RayleighSky`], [`Sun`] | analytic Rayleigh sky with a sun, as a lobe or a directional light | Chandrasekhar §17 |
+//! | [`DirectionalLight`] | a near-delta source reflected exactly, with a shadow ray | PSH (39) |
 //! | [`reflected_pbrdf`], [`reflected_radiance`] | high orders by convolution at the reflected direction | PSH Sec. 7 |
 //! | [`Scene`], [`SceneMaterial`], [`Camera`] | materials, camera, BVH ray queries | |
 //! | [`TransferSettings`], [`Planning`] | what a precomputation is asked to do, how much the plan may drop | |
@@ -16,6 +17,9 @@
 //! | [`builtin_scene`] | the built-in scenes | |
 
 pub(crate) mod builtin;
+pub(crate) mod direct;
+pub(crate) mod light;
+pub(crate) mod lobe;
 pub(crate) mod mesh;
 pub(crate) mod plan;
 pub(crate) mod reference;
@@ -27,16 +31,17 @@ pub(crate) mod sky;
 pub(crate) mod transfer;
 
 pub use builtin::{builtin_scene, builtin_unpolarized_scene};
+pub use light::DirectionalLight;
 pub use mesh::Mesh;
 pub use plan::{tangent_plane_visibility, MaterialPlan, Plan, Reason, StokesEvidence};
 pub use reference::{Fidelity, Reference, ReferenceSettings, Workspace};
 pub use reflected::{high_order_kernel, reflected_pbrdf, reflected_radiance};
 pub use render::{
-    background, primary_hits, render_frame, vertex_stokes, StokesImage, UnphysicalPixels,
+    direct_light, primary_hits, render_frame, vertex_stokes, StokesImage, UnphysicalPixels,
 };
 pub use scene::{Camera, EnvironmentSource, Hit, Scene, SceneMaterial, SceneObject};
 pub use settings::{Planning, TransferSettings, Visibility, MAX_L_HIGH, MAX_L_LOW};
-pub use sky::RayleighSky;
+pub use sky::{RayleighSky, Sun};
 pub use transfer::{
     high_order_fields, precompute, precompute_planned, ray_visibility, VertexTransfer,
     VisibilityRays,

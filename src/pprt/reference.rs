@@ -22,16 +22,15 @@
 //! truth), the same with the environment band-limited (so that band-limit and transfer
 //! errors can be told apart), or exactly what unshadowed PPRT integrates (to check it).
 
+use super::direct::DirectLights;
+use super::lobe::{material_lobe, reflected, Lobe};
 use super::render::{camera_travel_frame, seen_through, StokesImage};
-use super::scene::{Hit, Scene, SceneMaterial};
+use super::scene::{Hit, Scene};
 use crate::error::{check_len, Error, Result};
-use crate::geometry::frame::{Frame, FrameField, PerspectiveFrameField, ThetaPhiFrameField};
-use crate::optics::{Channel, Conductor, Ggx, Lambertian, PolarizedPlastic};
-use crate::polarized::{PshEvaluator, PshMatrix, PshVector};
-use crate::sh::num_coeffs;
-use crate::stokes::{MuellerField, MuellerMatrix, MuellerTransform, StokesVector};
-use nalgebra::{Rotation3, Vector3};
-use num_complex::Complex64;
+use crate::geometry::frame::{Frame, PerspectiveFrameField};
+use crate::polarized::{PshEvaluator, PshVector};
+use crate::stokes::StokesVector;
+use nalgebra::Vector3;
 use rayon::prelude::*;
 use std::f64::consts::PI;
 
@@ -58,140 +57,6 @@ pub struct ReferenceSettings {
     pub seed: u64,
 }
 
-/// A material's pBRDF per channel, as the reference evaluates it.
-enum Lobe {
-    Diffuse([Lambertian; 3]),
-    Plastic(PolarizedPlastic),
-    Conductor([Conductor; 3]),
-    Matrices(Box<[PshMatrix; 3]>),
-}
-
-/// A lobe at one shading point (`w_o` fixed), in the shading frame.
-enum AtPoint<'a> {
-    Diffuse(&'a [Lambertian; 3]),
-    Plastic(&'a PolarizedPlastic),
-    Conductor(&'a [Conductor; 3]),
-    /// The contraction and the theta-phi frame at `w_o`.
-    Matrices(Contracted, Frame),
-}
-
-impl AtPoint<'_> {
-    /// `P(w_i, w_o)` of every channel (`basis` evaluates the matrices' input basis).
-    fn transforms(
-        &self,
-        basis: &mut PshEvaluator,
-        wi: [f64; 3],
-        wo: [f64; 3],
-    ) -> Result<[MuellerTransform; 3]> {
-        Ok(match self {
-            AtPoint::Diffuse(d) => [
-                d[0].transform(wi, wo)?,
-                d[1].transform(wi, wo)?,
-                d[2].transform(wi, wo)?,
-            ],
-            AtPoint::Plastic(p) => {
-                let m = p.transform(wi, wo)?;
-                [m, m, m]
-            }
-            AtPoint::Conductor(m) => [
-                m[0].transform(wi, wo)?,
-                m[1].transform(wi, wo)?,
-                m[2].transform(wi, wo)?,
-            ],
-            AtPoint::Matrices(k, fo) => {
-                let fi = ThetaPhiFrameField::new().frame(wi)?;
-                let (yr, y2) = basis.basis(wi)?;
-                let m = |c| -> Result<MuellerTransform> {
-                    let m = MuellerMatrix::from_rows(k.matrix(c, yr, y2))?;
-                    Ok(MuellerTransform::new(m, fi, *fo))
-                };
-                [m(0)?, m(1)?, m(2)?]
-            }
-        })
-    }
-}
-
-impl Lobe {
-    /// The lobe at a shading point with outgoing direction `wo` (shading frame).
-    fn at(&self, basis: &mut PshEvaluator, wo: [f64; 3]) -> Result<AtPoint<'_>> {
-        Ok(match self {
-            Lobe::Diffuse(d) => AtPoint::Diffuse(d),
-            Lobe::Plastic(p) => AtPoint::Plastic(p),
-            Lobe::Conductor(m) => AtPoint::Conductor(m),
-            Lobe::Matrices(m) => {
-                if basis.lmax() < m[0].lmax() {
-                    return Err(Error::InvalidArgument {
-                        name: "workspace",
-                        value: format!("basis band limit {}", basis.lmax()),
-                        reason: format!(
-                            "the material's matrices need {} (a workspace of this reference)",
-                            m[0].lmax()
-                        ),
-                    });
-                }
-                let (yr, y2) = basis.basis(wo)?;
-                let k = Contracted::new(m, yr, y2);
-                AtPoint::Matrices(k, ThetaPhiFrameField::new().frame(wo)?)
-            }
-        })
-    }
-
-    /// The GGX lobe to importance-sample and the probability of picking it.
-    fn ggx(&self) -> Option<(Ggx, f64)> {
-        match self {
-            Lobe::Plastic(p) => Some((*p.specular().ggx(), 0.5)),
-            Lobe::Conductor(m) => Some((*m[0].specular().ggx(), 0.9)),
-            Lobe::Diffuse(_) | Lobe::Matrices(_) => None,
-        }
-    }
-}
-
-/// Coefficient matrices (RGB) contracted with the output basis at one `w_o`:
-/// `A[j_i][p_i][r] = sum_{j_o, p_o} P_{j_o j_i p_o p_i} Y_{j_o p_o}(w_o)[r]`, so that the
-/// Mueller matrix at any `w_i` is `M[r][k] = sum_{j_i, p_i} A[j_i][p_i][r] Y_{j_i p_i}(w_i)[k]`
-/// (PSH (40) evaluated as [`crate::polarized::MatrixKernel`] does, in the theta-phi frames at `w_i` and
-/// `w_o`), `O(n)` per direction instead of `O(n^2)`.
-struct Contracted([Vec<[[f64; 4]; 4]>; 3]);
-
-impl Contracted {
-    fn new(mats: &[PshMatrix; 3], yr: &[f64], y2: &[Complex64]) -> Self {
-        Contracted(std::array::from_fn(|c| {
-            let p = &mats[c];
-            let n = num_coeffs(p.lmax());
-            let mut a = vec![[[0.0; 4]; 4]; n];
-            for (jo, rows) in p.data().chunks_exact(16 * n).enumerate() {
-                let (y, re, im) = (yr[jo], y2[jo].re, y2[jo].im);
-                for (aj, blk) in a.iter_mut().zip(rows.chunks_exact(16)) {
-                    for (pi, ap) in aj.iter_mut().enumerate() {
-                        let c = |po: usize| blk[po * 4 + pi];
-                        // Y_{j p}: p = 0, 3 carry the real SH in s0, s3; p = 1, 2 carry
-                        // 2Y and i 2Y in s1 + i s2 (PSH (29)).
-                        ap[0] += c(0) * y;
-                        ap[1] += c(1) * re - c(2) * im;
-                        ap[2] += c(1) * im + c(2) * re;
-                        ap[3] += c(3) * y;
-                    }
-                }
-            }
-            a
-        }))
-    }
-
-    /// `M[r][k]` of channel `c` at the input basis `yr`, `y2`.
-    fn matrix(&self, c: usize, yr: &[f64], y2: &[Complex64]) -> [[f64; 4]; 4] {
-        let mut m = [[0.0; 4]; 4];
-        for ((a, &y), z) in self.0[c].iter().zip(yr).zip(y2) {
-            for (r, row) in m.iter_mut().enumerate() {
-                row[0] += a[0][r] * y;
-                row[1] += a[1][r] * z.re - a[2][r] * z.im;
-                row[2] += a[1][r] * z.im + a[2][r] * z.re;
-                row[3] += a[3][r] * y;
-            }
-        }
-        m
-    }
-}
-
 /// Per-thread evaluators: the environment's coefficients and the materials' bases.
 pub struct Workspace {
     environment: PshEvaluator,
@@ -205,6 +70,8 @@ pub struct Reference<'a> {
     lobes: Vec<Lobe>,
     /// The band-limited environment, `None` for the source's.
     environment: Option<PshVector>,
+    /// The source's directional lights, reflected exactly at every fidelity (as PPRT does).
+    direct: Option<DirectLights<'a>>,
     offset: f64,
 }
 
@@ -222,17 +89,9 @@ impl<'a> Reference<'a> {
         let lobes = scene
             .materials()
             .iter()
-            .map(|m| {
-                Ok(match (m, settings.fidelity) {
-                    (_, Fidelity::BandLimited(l)) => Lobe::Matrices(Box::new(m.matrices(l)?)),
-                    (SceneMaterial::Diffuse(d), _) => Lobe::Diffuse(*d),
-                    (SceneMaterial::Plastic(p), _) => Lobe::Plastic(*p),
-                    (SceneMaterial::Conductor { material, alpha }, _) => {
-                        let c = |ch| Conductor::from_material(*alpha, *material, ch);
-                        Lobe::Conductor([c(Channel::Red)?, c(Channel::Green)?, c(Channel::Blue)?])
-                    }
-                    (SceneMaterial::Matrices(mats), _) => Lobe::Matrices(mats.clone()),
-                })
+            .map(|m| match settings.fidelity {
+                Fidelity::BandLimited(l) => Lobe::band_limited(m, l),
+                _ => Lobe::exact(m),
             })
             .collect::<Result<Vec<_>>>()?;
         let environment = match settings.fidelity {
@@ -246,6 +105,7 @@ impl<'a> Reference<'a> {
             settings,
             lobes,
             environment,
+            direct: DirectLights::new(scene)?,
             offset: 1e-4 * scene.bounding_scale(),
         })
     }
@@ -255,10 +115,8 @@ impl<'a> Reference<'a> {
         let basis = self
             .lobes
             .iter()
-            .map(|l| match l {
-                Lobe::Matrices(m) => m[0].lmax(),
-                _ => 0,
-            })
+            .map(Lobe::basis_lmax)
+            .chain(self.direct.as_ref().map(DirectLights::basis_lmax))
             .max()
             .unwrap_or(0);
         Ok(Workspace {
@@ -293,14 +151,7 @@ impl<'a> Reference<'a> {
         out: &Frame,
         stream: u64,
     ) -> Result<[[f64; 4]; 3]> {
-        let lobe = self
-            .lobes
-            .get(material)
-            .ok_or_else(|| Error::InvalidArgument {
-                name: "material",
-                value: material.to_string(),
-                reason: format!("{} materials", self.lobes.len()),
-            })?;
+        let lobe = material_lobe(&self.lobes, material)?;
         if let Some(x) = p.iter().find(|x| !x.is_finite()) {
             return Err(Error::NonFinite {
                 name: "shading point",
@@ -329,13 +180,19 @@ impl<'a> Reference<'a> {
             let incident = self.incident(ws, wi)?;
             let transforms = at.transforms(&mut ws.basis, [wi_l.x, wi_l.y, wi_l.z], wo_a)?;
             for ((a, s), m) in acc.iter_mut().zip(&incident).zip(&transforms) {
-                let m = in_world(m, &rot)?;
-                let x = m.apply(s)?.components_in(out)?.to_array();
+                let x = reflected(m, &rot, s, out)?;
                 a.iter_mut().zip(x).for_each(|(a, x)| *a += x / pdf);
             }
         }
         let n_inv = 1.0 / self.settings.samples as f64;
-        Ok(acc.map(|s| s.map(|x| x * n_inv)))
+        let mut acc = acc.map(|s| s.map(|x| x * n_inv));
+        if let Some(direct) = &self.direct {
+            let d = direct.outgoing(&mut ws.basis, material, p, n, out)?;
+            for (a, d) in acc.iter_mut().zip(d) {
+                a.iter_mut().zip(d).for_each(|(a, d)| *a += d);
+            }
+        }
+        Ok(acc)
     }
 
     /// The Stokes vectors (RGB) leaving the vertices `(object, vertex)` towards the camera,
@@ -389,18 +246,11 @@ impl<'a> Reference<'a> {
                     })?;
                     match hit {
                         Some(h) => {
-                            let mesh = &self.scene.objects()[h.object].mesh;
-                            let t = mesh.triangles()[h.triangle];
-                            let w = [1.0 - h.u - h.v, h.u, h.v];
-                            let blend = |a: &[[f64; 3]]| -> Vector3<f64> {
-                                (0..3).map(|i| w[i] * Vector3::from(a[t[i] as usize])).sum()
-                            };
-                            let p = blend(mesh.positions());
-                            let n = blend(mesh.normals()).normalize();
-                            let v = (eye - p).normalize();
+                            let (p, n) = self.scene.shading_point(h);
+                            let v = (eye - Vector3::from(p)).normalize();
                             let out = camera_travel_frame(&field, [v.x, v.y, v.z])?;
                             let material = self.scene.objects()[h.object].material;
-                            self.outgoing(ws, material, p.into(), n.into(), &out, k as u64)
+                            self.outgoing(ws, material, p, n, &out, k as u64)
                         }
                         None => {
                             let d = cam.pixel_direction(k % cam.width, k / cam.width);
@@ -425,15 +275,6 @@ fn vertex_error(object: usize, vertex: usize) -> Error {
         value: format!("object {object}, vertex {vertex}"),
         reason: "not in the scene".into(),
     }
-}
-
-/// A transform given in the shading frame (normal `+z`) carried to world by `rot`.
-fn in_world(m: &MuellerTransform, rot: &Rotation3<f64>) -> Result<MuellerTransform> {
-    Ok(MuellerTransform::new(
-        m.matrix(),
-        m.frame_in().rotated(rot)?,
-        m.frame_out().rotated(rot)?,
-    ))
 }
 
 /// A direction in the shading frame and its density under the mixture, or `None` when
@@ -492,42 +333,4 @@ fn r3(n: usize, shift: [f64; 3]) -> [f64; 3] {
 fn shifts(seed: u64) -> [f64; 3] {
     let mut rng = crate::random::Rng::new(seed);
     std::array::from_fn(|_| rng.unit())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::polarized::MatrixKernel;
-    use crate::testing::{random_directions, random_psh_matrix};
-
-    /// The contraction equals the direct double sum of [`MatrixKernel`] (PSH (40)), poles
-    /// included.
-    #[test]
-    fn contraction_matches_the_matrix_kernel() {
-        let lmax = 5;
-        let mats: [PshMatrix; 3] =
-            std::array::from_fn(|c| random_psh_matrix(lmax, c as u64).unwrap());
-        let mut basis = PshEvaluator::new(lmax).unwrap();
-        let mut dirs = random_directions(6, 3);
-        dirs.push([0.0, 0.0, 1.0]);
-        let lobe = Lobe::Matrices(Box::new(mats.clone()));
-        for &wo in &dirs {
-            let at = lobe.at(&mut basis, wo).unwrap();
-            let AtPoint::Matrices(..) = at else {
-                panic!("a matrix lobe")
-            };
-            for &wi in &dirs {
-                let got = at.transforms(&mut basis, wi, wo).unwrap();
-                for c in 0..3 {
-                    let want = MatrixKernel(&mats[c]).transform(wi, wo).unwrap();
-                    let d = (got[c].matrix().matrix() - want.matrix().matrix())
-                        .abs()
-                        .max();
-                    assert!(d < 1e-12, "{wi:?} {wo:?} {c}: {d}");
-                    assert!(got[c].frame_in().approx_eq(want.frame_in(), 1e-15));
-                    assert!(got[c].frame_out().approx_eq(want.frame_out(), 1e-15));
-                }
-            }
-        }
-    }
 }

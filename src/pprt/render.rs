@@ -8,6 +8,7 @@
 //! ([`crate::geometry::frame::PerspectiveFrameField`]), `z` along the light's travel,
 //! `x` image-right, `y` image-up.
 
+use super::direct::DirectLights;
 use super::reflected::reflected_radiance;
 use super::scene::{Camera, Hit, Scene};
 use super::transfer::VertexTransfer;
@@ -133,27 +134,41 @@ pub(crate) fn camera_travel_frame(field: &PerspectiveFrameField, v: [f64; 3]) ->
     Frame::new([x.x, x.y, x.z], [-y.x, -y.y, -y.z], v)
 }
 
-/// The environment seen directly through the pixels without a hit, in the camera's
-/// frames; zero where a surface is hit. It is the scene's source
-/// ([`super::EnvironmentSource::incident`]: the sky exactly, coefficients at their own band
-/// limit), never the transfer's band-limited copy, whose ringing would show as the sky.
-/// Computed once per camera.
-pub fn background(scene: &Scene, hits: &[Option<Hit>]) -> Result<Vec<[[f64; 4]; 3]>> {
+/// The light that reaches the camera outside PSH, per pixel in the camera's frames,
+/// computed once per camera: where nothing is hit, the environment seen directly, from
+/// the scene's source ([`super::EnvironmentSource::incident`]: the sky exactly,
+/// coefficients at their own band limit), never the transfer's band-limited copy, whose
+/// ringing would show as the sky; where a surface is hit, the source's directional lights
+/// reflected once with a shadow ray ([`super::direct`]; zero without such lights).
+pub fn direct_light(scene: &Scene, hits: &[Option<Hit>]) -> Result<Vec<[[f64; 4]; 3]>> {
     let cam = scene.camera();
     let field = PerspectiveFrameField::new(cam.frame);
+    let eye = Vector3::from(cam.position);
     let source = scene.source();
+    let lights = DirectLights::new(scene)?;
     let evaluator = PshEvaluator::new(source.lmax())?;
+    let basis = PshEvaluator::new(lights.as_ref().map_or(0, DirectLights::basis_lmax))?;
     hits.par_iter()
         .enumerate()
         .map_init(
-            || evaluator.clone(),
-            |evaluator, (k, hit)| {
+            || (evaluator.clone(), basis.clone()),
+            |(evaluator, basis), (k, hit)| {
                 let mut s = [[0.0; 4]; 3];
-                if hit.is_none() {
-                    let d = cam.pixel_direction(k % cam.width, k / cam.width);
-                    for (sc, v) in s.iter_mut().zip(source.incident(evaluator, d)?) {
-                        *sc = seen_through(&field, d, &v)?;
+                match (hit, &lights) {
+                    (None, _) => {
+                        let d = cam.pixel_direction(k % cam.width, k / cam.width);
+                        for (sc, v) in s.iter_mut().zip(source.incident(evaluator, d)?) {
+                            *sc = seen_through(&field, d, &v)?;
+                        }
                     }
+                    (Some(h), Some(lights)) => {
+                        let (p, n) = scene.shading_point(h);
+                        let v = (eye - Vector3::from(p)).normalize();
+                        let out = camera_travel_frame(&field, [v.x, v.y, v.z])?;
+                        let material = scene.objects()[h.object].material;
+                        s = lights.outgoing(basis, material, p, n, &out)?;
+                    }
+                    (Some(_), None) => {}
                 }
                 Ok(s)
             },
@@ -239,33 +254,35 @@ pub(crate) fn seen_through(
 }
 
 /// One frame: [`vertex_stokes`] interpolated with the hits' barycentric coordinates
-/// (components all in the camera's frames). Pixels without a hit show `background`
-/// ([`background`]). Errors: as [`vertex_stokes`], and `hits` or `background` not one per
-/// pixel.
+/// (components all in the camera's frames), plus `direct` ([`direct_light`]: the
+/// environment where nothing is hit, the directional lights on surfaces). Errors: as
+/// [`vertex_stokes`], and `hits` or `direct` not one per pixel.
 pub fn render_frame(
     scene: &Scene,
     transfer: &[Vec<VertexTransfer>],
     high: &[Option<PshVector>],
     hits: &[Option<Hit>],
-    background: &[[[f64; 4]; 3]],
+    direct: &[[[f64; 4]; 3]],
 ) -> Result<StokesImage> {
     let cam = scene.camera();
     check_len("primary hits", cam.width * cam.height, hits.len())?;
-    check_len("background pixels", hits.len(), background.len())?;
+    check_len("direct light pixels", hits.len(), direct.len())?;
     let vertex_stokes = vertex_stokes(scene, transfer, high)?;
     let pixels: Vec<[[f64; 4]; 3]> = hits
         .par_iter()
-        .zip(background)
-        .map(|(hit, bg)| match hit {
+        .zip(direct)
+        .map(|(hit, d)| match hit {
             Some(h) => {
                 let t = scene.objects()[h.object].mesh.triangles()[h.triangle];
                 let w = [1.0 - h.u - h.v, h.u, h.v];
                 let vs = &vertex_stokes[h.object];
                 std::array::from_fn(|c| {
-                    std::array::from_fn(|p| (0..3).map(|i| w[i] * vs[t[i] as usize][c][p]).sum())
+                    std::array::from_fn(|p| {
+                        d[c][p] + (0..3).map(|i| w[i] * vs[t[i] as usize][c][p]).sum::<f64>()
+                    })
                 })
             }
-            None => *bg,
+            None => *d,
         })
         .collect();
     Ok(StokesImage::from_pixels(cam, &pixels, hits))

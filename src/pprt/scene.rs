@@ -1,8 +1,9 @@
 //! Scenes: meshes with materials, the environment's PSH coefficients and a camera; ray
 //! queries through a bounding volume hierarchy (the `bvh` crate).
 
+use super::light::DirectionalLight;
 use super::mesh::Mesh;
-use super::sky::RayleighSky;
+use super::sky::{RayleighSky, Sun};
 use crate::error::{Error, Result};
 use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
 use crate::optics::{Channel, Conductor, Lambertian, Material, PolarizedPlastic};
@@ -191,6 +192,23 @@ impl EnvironmentSource {
         }
     }
 
+    /// How the analytic sky carries its sun (`None` for coefficients).
+    pub fn sun(&self) -> Option<Sun> {
+        match self {
+            Self::Sky(sky) => Some(sky.sun()),
+            Self::Coefficients(_) => None,
+        }
+    }
+
+    /// The directional lights that come with the source (the sky's sun with
+    /// [`super::Sun::Directional`]), reflected exactly by [`super::direct`].
+    pub fn directional_lights(&self) -> Vec<DirectionalLight> {
+        match self {
+            Self::Sky(sky) => sky.directional_light().into_iter().collect(),
+            Self::Coefficients(_) => Vec::new(),
+        }
+    }
+
     /// The light arriving from the unit direction `w` (towards its source), per channel, in
     /// the theta-phi frame at `w`: the sky evaluated exactly, coefficients at their own
     /// band limit by PSH (30) with `evaluator` (of band limit at least [`Self::lmax`]).
@@ -219,6 +237,7 @@ pub struct Scene {
     materials: Vec<SceneMaterial>,
     environment: PshVector,
     source: EnvironmentSource,
+    window: crate::sh::Window,
     camera: Camera,
     tris: Vec<Tri>,
     bvh: Bvh<f64, 3>,
@@ -278,6 +297,7 @@ impl Scene {
             materials,
             source: EnvironmentSource::Coefficients(environment.clone()),
             environment,
+            window: crate::sh::Window::None,
             camera,
             tris,
             bvh,
@@ -318,6 +338,52 @@ impl Scene {
         }
         self.source = source;
         Ok(self)
+    }
+
+    /// The scene with its environment's coefficients tapered by `window` over their band
+    /// limit ([`PshVector::windowed`], `proofs/windowed-band-limits.md`); the source (the
+    /// background, the reference's ground truth) is unchanged.
+    /// Meant once: the factors of a second window multiply the first's, and
+    /// [`Self::window`] names the last.
+    pub fn windowed(mut self, window: crate::sh::Window) -> Self {
+        self.environment = self.environment.windowed(window);
+        self.window = window;
+        self
+    }
+
+    /// The window the environment was tapered by ([`Self::windowed`]).
+    pub fn window(&self) -> crate::sh::Window {
+        self.window
+    }
+
+    /// The scene under its analytic sky with the sun carried as `sun` (the environment
+    /// projected anew at its band limit, then windowed as before). Error: a source
+    /// that is not the analytic sky.
+    pub fn with_sun(mut self, sun: Sun) -> Result<Self> {
+        let EnvironmentSource::Sky(sky) = &self.source else {
+            return Err(Error::InvalidArgument {
+                name: "sun",
+                value: sun.name().into(),
+                reason: "a scene under the analytic sky (its source is coefficients)".into(),
+            });
+        };
+        let sky = sky.clone().with_sun(sun);
+        self.environment = sky.project(self.environment.lmax())?.windowed(self.window);
+        self.source = EnvironmentSource::Sky(sky);
+        Ok(self)
+    }
+
+    /// The shading point of a hit: position and unit normal interpolated with its
+    /// barycentric coordinates.
+    pub fn shading_point(&self, h: &Hit) -> ([f64; 3], [f64; 3]) {
+        let mesh = &self.objects[h.object].mesh;
+        let t = mesh.triangles()[h.triangle];
+        let w = [1.0 - h.u - h.v, h.u, h.v];
+        let blend = |a: &[[f64; 3]]| -> Vector3<f64> {
+            (0..3).map(|i| w[i] * Vector3::from(a[t[i] as usize])).sum()
+        };
+        let (p, n) = (blend(mesh.positions()), blend(mesh.normals()).normalize());
+        (p.into(), n.into())
     }
 
     /// The diagonal of the bounding box of every vertex (the scale of ray offsets).

@@ -18,6 +18,7 @@ pub(crate) mod solid;
 pub(crate) mod transform;
 pub(crate) mod wigner;
 pub(crate) mod wigner3j;
+pub(crate) mod window;
 pub(crate) mod zonal;
 
 pub use gaunt::{gaunt, gaunt_product, real_gaunt};
@@ -38,6 +39,7 @@ pub use wigner::{
     RealWignerD, SmallDRecursion, WignerD,
 };
 pub use wigner3j::{wigner_3j, wigner_3j_row, wigner_3j_row_into, Wigner3jRow, MAX_GAUNT_DEGREE};
+pub use window::Window;
 pub use zonal::{
     funk_hecke, rotated_zonal_complex, rotated_zonal_real, zonal_coefficients, ZonalCoefficients,
 };
