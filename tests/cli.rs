@@ -1086,3 +1086,98 @@ fn render_reports_its_sun_and_window() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Scene files say what a comparison with Mitsuba 3 needs (issue 24): a constant
+/// environment, a conductor by its complex index per channel, a sphere's tessellation;
+/// `render --reference` renders with the reference renderer. Under a constant radiance
+/// `L` the background is `L` exactly; bad values are refused naming the field.
+#[test]
+fn scene_files_for_mitsuba_comparisons() {
+    let dir = std::env::temp_dir().join(format!("psh_cli_mitsuba_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = |env: &str, conductor: &str| {
+        let path = dir.join("scene.toml");
+        std::fs::write(
+            &path,
+            format!(
+                "[environment]\n{env}\n\n[camera]\nposition = [0.0, -4.0, 1.0]\n\
+                 target = [0.0, 0.0, 0.0]\nfov_deg = 40.0\nwidth = 16\nheight = 12\n\n\
+                 [[material]]\nname = \"m\"\ntype = \"conductor\"\n{conductor}\nalpha = 0.3\n\n\
+                 [[mesh]]\ntype = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 0.5\n\
+                 rings = 8\nsegments = 16\nmaterial = \"m\"\n"
+            ),
+        )
+        .unwrap();
+        path
+    };
+    let good = scene(
+        "type = \"constant\"\nradiance = [0.5, 1.0, 2.0]",
+        "eta = [0.2, 0.4, 1.4]\nk = [3.6, 2.7, 1.9]",
+    );
+    let out = dir.join("ref");
+    let o = psh(&[
+        "render",
+        "--scene",
+        good.to_str().unwrap(),
+        "--reference",
+        "4",
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(report["samples_per_pixel"], 4);
+    assert!(out.join("reference.json").exists() && out.join("render_s0.exr").exists());
+    // The corner pixel sees the environment: exactly the radiance, unpolarized.
+    let corner = |p: usize, name: &str| -> f32 {
+        let m = exr::prelude::read_first_flat_layer_from_file(out.join(format!("render_s{p}.exr")))
+            .unwrap();
+        let c = m
+            .layer_data
+            .channel_data
+            .list
+            .iter()
+            .find(|c| c.name.to_string() == name)
+            .unwrap();
+        let first = c.sample_data.values_as_f32().next().unwrap();
+        first
+    };
+    assert_eq!(
+        (corner(0, "R"), corner(0, "G"), corner(0, "B")),
+        (0.5, 1.0, 2.0)
+    );
+    for p in 1..4 {
+        assert_eq!(corner(p, "B"), 0.0);
+    }
+    for (env, conductor, named) in [
+        (
+            "type = \"constant\"\nradiance = [0.5, -1.0, 2.0]",
+            "table = \"Gold\"",
+            "environment.radiance",
+        ),
+        (
+            "type = \"constant\"\nradiance = [1.0, 1.0, 1.0]",
+            "table = \"Gold\"\neta = [1.0, 1.0, 1.0]\nk = [1.0, 1.0, 1.0]",
+            "not both",
+        ),
+        (
+            "type = \"constant\"\nradiance = [1.0, 1.0, 1.0]",
+            "eta = [1.0, 1.0, 1.0]\nk = [1.0, -1.0, 1.0]",
+            "material 'm'.eta",
+        ),
+    ] {
+        let path = scene(env, conductor);
+        let o = psh(&[
+            "render",
+            "--scene",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{err}");
+        assert!(err.contains(named), "{named}: {err}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

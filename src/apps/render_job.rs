@@ -7,6 +7,7 @@ use crate::io::exr::write_stokes_image;
 use crate::io::png::{srgb8, write_png, write_stokes_pngs};
 use crate::polarized::SparsePshMatrix;
 use crate::pprt::plan::Plan;
+use crate::pprt::reference::{Fidelity, Reference, ReferenceSettings};
 use crate::pprt::render::{
     direct_light, primary_hits, render_frame, StokesImage, UnphysicalPixels,
 };
@@ -144,24 +145,7 @@ pub fn render_job(
     // The pictures, the EXR files and the report appear together or not at all.
     let report = crate::io::all_or_nothing(&[], || {
         let t3 = Instant::now();
-        let prefix = out.join("render");
-        let mut written = write_stokes_pngs(
-            &image.channels,
-            &vec![true; image.width * image.height],
-            image.width,
-            image.height,
-            &prefix,
-        )?;
-        for &deg in polarizers {
-            written.push(write_polarizer_png(&image, deg, out)?);
-        }
-        let exr_pattern = out.join("render_s%d.exr");
-        written.extend(write_stokes_image(
-            &image.channels,
-            image.width,
-            image.height,
-            &exr_pattern,
-        )?);
+        let written = write_pictures(&image, polarizers, out)?;
         let t_out = t3.elapsed().as_secs_f64();
         let cam = scene.camera();
         let report = RenderReport {
@@ -211,6 +195,82 @@ pub fn render_job(
         Ok(report)
     })?;
     Ok((report, image))
+}
+
+/// `render_s{0..3}.exr`, `render_{s0,s1,s2,s3,dop,aop}.png` and `polarizer_{deg}.png` of
+/// `image` in `out`; returns the files written.
+fn write_pictures(image: &StokesImage, polarizers: &[f64], out: &Path) -> Result<Vec<PathBuf>> {
+    let mut written = write_stokes_pngs(
+        &image.channels,
+        &vec![true; image.width * image.height],
+        image.width,
+        image.height,
+        out.join("render"),
+    )?;
+    for &deg in polarizers {
+        written.push(write_polarizer_png(image, deg, out)?);
+    }
+    written.extend(write_stokes_image(
+        &image.channels,
+        image.width,
+        image.height,
+        out.join("render_s%d.exr"),
+    )?);
+    Ok(written)
+}
+
+/// The scene rendered by the reference renderer instead of PPRT
+/// ([`crate::pprt::Reference`], [`Fidelity::Exact`]: the source environment, the
+/// materials' models, ray-cast visibility) with `samples` directions per pixel, into
+/// `out` as [`render_job`] writes its pictures, with `reference.json` (samples, seconds,
+/// the pixels that break PSH (70)). Returns the report and the image.
+pub fn reference_job(
+    scene: &Scene,
+    samples: usize,
+    polarizers: &[f64],
+    out: &Path,
+) -> Result<(ReferenceReport, StokesImage)> {
+    let cam = scene.camera();
+    crate::io::check_stokes_output(cam.width.saturating_mul(cam.height), 3)?;
+    std::fs::create_dir_all(out).map_err(|e| Error::Io {
+        path: out.to_path_buf(),
+        source: e,
+    })?;
+    let t0 = Instant::now();
+    let hits = primary_hits(scene);
+    let image = Reference::new(
+        scene,
+        ReferenceSettings {
+            samples,
+            fidelity: Fidelity::Exact,
+            seed: 1,
+        },
+    )?
+    .render(&hits)?;
+    let seconds = t0.elapsed().as_secs_f64();
+    let report = crate::io::all_or_nothing(&[], || {
+        let report = ReferenceReport {
+            samples_per_pixel: samples,
+            image: [cam.width, cam.height],
+            seconds,
+            unphysical_pixels: image.unphysical(),
+            pictures: write_pictures(&image, polarizers, out)?,
+        };
+        write_json(&out.join("reference.json"), &report)?;
+        Ok(report)
+    })?;
+    Ok((report, image))
+}
+
+/// The report of a [`reference_job`] (`reference.json`).
+#[derive(Clone, Debug, Serialize)]
+pub struct ReferenceReport {
+    pub samples_per_pixel: usize,
+    /// Width and height in pixels.
+    pub image: [usize; 2],
+    pub seconds: f64,
+    pub unphysical_pixels: UnphysicalPixels,
+    pub pictures: Vec<PathBuf>,
 }
 
 /// The ablation of PSH Figs. 20 and 21: the scene rendered [`render_job`]-style into

@@ -225,6 +225,11 @@ struct RenderArgs {
     /// Print report.json's content (JSON) instead of a few lines for a person.
     #[arg(long)]
     json: bool,
+    /// Render with the reference renderer instead of PPRT (quasi-Monte Carlo, the
+    /// source environment, the materials' models, ray-cast visibility) with this many
+    /// directions per pixel; the same pictures, and reference.json.
+    #[arg(long, conflicts_with_all = ["ablation", "valid_range"], value_parser = parse_spp)]
+    reference: Option<usize>,
 }
 
 impl Default for RenderArgs {
@@ -249,6 +254,7 @@ impl Default for RenderArgs {
             window: psh::sh::Window::None,
             sun: None,
             json: false,
+            reference: None,
         }
     }
 }
@@ -1009,6 +1015,11 @@ fn render(a: &RenderArgs) -> psh::Result<(serde_json::Value, String)> {
         settings.rays,
         a.out.display()
     );
+    if let Some(samples) = a.reference {
+        let (report, _) =
+            psh::apps::render_job::reference_job(&scene, samples, polarizers, &a.out)?;
+        return Ok((to_json(&report)?, name));
+    }
     if a.ablation {
         let report = psh::apps::render_job::ablation_job(
             &scene,
@@ -1051,6 +1062,17 @@ fn render_summary(v: &serde_json::Value, name: &str, out: &Path) -> String {
         text.push_str(&l);
         text.push('\n');
     };
+    if let Some(samples) = v["samples_per_pixel"].as_u64() {
+        let image = &v["image"];
+        line(format!(
+            "rendered {name}, {} x {}, by the reference renderer at {samples} directions per pixel in {:.2} s; pictures and reference.json in {}",
+            image[0],
+            image[1],
+            f(&v["seconds"]),
+            out.display()
+        ));
+        return text;
+    }
     if let Some(variants) = v["variants"].as_array() {
         line(format!(
             "ablation of {name} (PSH Figs. 20, 21) in {}:",

@@ -9,6 +9,7 @@
 //!                               #   coefficients; pprt::Sun)
 //! # type = "npz", path = "..."  #   a PSH coefficient vector (polarsh .npz, RGB)
 //! # type = "exr", path = "map_s%d.exr"   # a polarized environment map
+//! # type = "constant", radiance = [1.0, 1.0, 1.0]   # unpolarized, the same everywhere
 //! # up = "y"                    #   optional: the file's up axis is y (turned to +z)
 //!
 //! [camera]
@@ -28,7 +29,8 @@
 //!
 //! [[material]]
 //! name = "glass"
-//! type = "plastic"              # or "conductor" (table = "Gold", alpha), "diffuse"
+//! type = "plastic"              # or "conductor" (table = "Gold", or eta = [r, g, b] and
+//!                               # k = [r, g, b]; alpha), "diffuse"
 //! alpha = 0.15                  # (albedo = [r, g, b], depolarizing Lambertian) or
 //!                               # "npz" (path: a polarsh ISOBI2 pBRDF matrix)
 //! ior = 1.5
@@ -39,6 +41,8 @@
 //!                               # major_radius, minor_radius; axis +z) or "obj" (path, up)
 //! center = [0.0, 0.0, 0.7]
 //! radius = 0.7
+//! rings = 32                    # optional: the sphere's tessellation (these defaults)
+//! segments = 64
 //! material = "glass"
 //! ```
 //!
@@ -47,7 +51,7 @@
 //! directory). Errors name the file and the field.
 
 use crate::error::{clip, Error, Result};
-use crate::optics::{Lambertian, Material, PolarizedPlastic};
+use crate::optics::{ComplexIor, Lambertian, Material, PolarizedPlastic};
 use crate::polarized::{Codomain, FieldArgument, PshVector};
 use crate::pprt::mesh::Mesh;
 use crate::pprt::scene::{Camera, EnvironmentSource, Scene, SceneMaterial, SceneObject};
@@ -66,6 +70,16 @@ struct SceneFile {
     settings: SettingsSpec,
     material: Vec<MaterialSpec>,
     mesh: Vec<MeshSpec>,
+}
+
+/// A sphere's tessellation when a scene file does not say: rings of latitude and segments
+/// of longitude.
+fn default_rings() -> usize {
+    32
+}
+
+fn default_segments() -> usize {
+    64
 }
 
 /// The sky's sun when a scene file does not say: a directional light (the built-in
@@ -93,6 +107,29 @@ enum EnvironmentSpec {
         #[serde(default)]
         up: Up,
     },
+    Constant {
+        #[serde(deserialize_with = "exactly")]
+        radiance: [f64; 3],
+    },
+}
+
+/// An unpolarized environment of the same radiance per channel from every direction:
+/// `f_00 = sqrt(4 pi) L` in `s0` (`Y_00 = 1/sqrt(4 pi)`), band limit `lmax`. Error: a
+/// radiance negative or not finite.
+fn constant_environment(radiance: [f64; 3], lmax: usize) -> Result<PshVector> {
+    if let Some(r) = radiance.iter().find(|r| !(r.is_finite() && **r >= 0.0)) {
+        return Err(Error::InvalidArgument {
+            name: "constant radiance",
+            value: r.to_string(),
+            reason: "finite and non-negative".into(),
+        });
+    }
+    let n = crate::sh::num_coeffs(lmax) * 4;
+    let mut data = vec![0.0; 3 * n];
+    for (c, r) in radiance.iter().enumerate() {
+        data[c * n] = (4.0 * std::f64::consts::PI).sqrt() * r;
+    }
+    PshVector::from_data(lmax, Codomain::Full, 3, data)
 }
 
 /// The up axis of a file's coordinates (psh's world is `+z` up).
@@ -162,7 +199,12 @@ enum MaterialSpec {
     },
     Conductor {
         name: String,
-        table: String,
+        #[serde(default)]
+        table: Option<String>,
+        #[serde(default, deserialize_with = "exactly_some")]
+        eta: Option<[f64; 3]>,
+        #[serde(default, deserialize_with = "exactly_some")]
+        k: Option<[f64; 3]>,
         alpha: f64,
     },
     Diffuse {
@@ -184,6 +226,10 @@ enum MeshSpec {
         center: [f64; 3],
         radius: f64,
         material: String,
+        #[serde(default = "default_rings")]
+        rings: usize,
+        #[serde(default = "default_segments")]
+        segments: usize,
     },
     Plane {
         #[serde(deserialize_with = "exactly")]
@@ -215,6 +261,13 @@ fn exactly<'de, D: serde::Deserializer<'de>, const N: usize>(
     let n = v.len();
     v.try_into()
         .map_err(|_| serde::de::Error::invalid_length(n, &format!("{N} numbers").as_str()))
+}
+
+/// As [`exactly`], for an optional field.
+fn exactly_some<'de, D: serde::Deserializer<'de>, const N: usize>(
+    d: D,
+) -> std::result::Result<Option<[f64; N]>, D::Error> {
+    exactly(d).map(Some)
 }
 
 /// Band limit of a coefficient or map environment as the reference renderer's source
@@ -312,6 +365,10 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
             let map = crate::io::exr::read_stokes_map(resolve(p)?)?;
             EnvironmentSource::Coefficients(turn(&map.project(Codomain::Full, source_lmax)?, *up)?)
         }
+        EnvironmentSpec::Constant { radiance } => EnvironmentSource::Coefficients(
+            constant_environment(*radiance, source_lmax)
+                .map_err(|e| field("environment.radiance", e))?,
+        ),
     };
     // Unpolarized: the intensity alone, for the reference too.
     let source = if spec.settings.unpolarized_environment {
@@ -348,14 +405,38 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
                     .map(SceneMaterial::Plastic)
                     .map_err(|e| field(&format!("material '{}'", clip(name)), e))?,
             ),
-            MaterialSpec::Conductor { name, table, alpha } => (
+            MaterialSpec::Conductor {
                 name,
-                SceneMaterial::Conductor {
-                    material: Material::from_name(table)
-                        .map_err(|e| field(&format!("material '{}'.table", clip(name)), e))?,
-                    alpha: *alpha,
-                },
-            ),
+                table,
+                eta,
+                k,
+                alpha,
+            } => {
+                let at = |key: &str, e| field(&format!("material '{}'.{key}", clip(name)), e);
+                let material = match (table, eta, k) {
+                    (Some(t), None, None) => SceneMaterial::conductor(
+                        Material::from_name(t).map_err(|e| at("table", e))?,
+                        *alpha,
+                    ),
+                    (None, Some(n), Some(k)) => SceneMaterial::Conductor {
+                        ior: [0, 1, 2]
+                            .map(|c| ComplexIor::new(n[c], k[c]))
+                            .into_iter()
+                            .collect::<Result<Vec<_>>>()
+                            .map_err(|e| at("eta", e))?
+                            .try_into()
+                            .expect("three channels"),
+                        alpha: *alpha,
+                    },
+                    _ => {
+                        return Err(malformed(format!(
+                            "material '{}': a conductor is given by `table` or by `eta` and `k` (RGB), not both",
+                            clip(name)
+                        )))
+                    }
+                };
+                (name, material)
+            }
             MaterialSpec::Diffuse { name, albedo } => {
                 let lambert = |c: usize| {
                     Lambertian::new(albedo[c])
@@ -409,7 +490,12 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
                 center,
                 radius,
                 material,
-            } => (Mesh::sphere(*center, *radius, 32, 64), material),
+                rings,
+                segments,
+            } => {
+                crate::budget::check("sphere vertices", &[*rings + 1, *segments + 1], 48)?;
+                (Mesh::sphere(*center, *radius, *rings, *segments), material)
+            }
             MeshSpec::Plane {
                 center,
                 half_size,

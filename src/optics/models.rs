@@ -71,6 +71,13 @@ impl Conductor {
         })
     }
 
+    /// Roughness `alpha` and a complex index already checked.
+    pub fn with_ior(alpha: f64, ior: ComplexIor) -> Result<Self> {
+        Ok(Self {
+            specular: MicrofacetSpecular::new(alpha, ior)?,
+        })
+    }
+
     /// A conductor (or any material) of the PF table in one colour channel.
     pub fn from_material(alpha: f64, material: Material, channel: Channel) -> Result<Self> {
         Ok(Self {

@@ -5,7 +5,7 @@
 use super::scene::SceneMaterial;
 use crate::error::{Error, Result};
 use crate::geometry::frame::{Frame, FrameField, ThetaPhiFrameField};
-use crate::optics::{Channel, Conductor, Ggx, Lambertian, PolarizedPlastic};
+use crate::optics::{Conductor, Ggx, Lambertian, PolarizedPlastic};
 use crate::polarized::{PshEvaluator, PshMatrix};
 use crate::sh::num_coeffs;
 use crate::stokes::{MuellerField, MuellerMatrix, MuellerTransform, StokesVector};
@@ -71,9 +71,9 @@ impl Lobe {
         Ok(match m {
             SceneMaterial::Diffuse(d) => Lobe::Diffuse(*d),
             SceneMaterial::Plastic(p) => Lobe::Plastic(*p),
-            SceneMaterial::Conductor { material, alpha } => {
-                let c = |ch| Conductor::from_material(*alpha, *material, ch);
-                Lobe::Conductor([c(Channel::Red)?, c(Channel::Green)?, c(Channel::Blue)?])
+            SceneMaterial::Conductor { ior, alpha } => {
+                let c = |ch: usize| Conductor::with_ior(*alpha, ior[ch]);
+                Lobe::Conductor([c(0)?, c(1)?, c(2)?])
             }
             SceneMaterial::Matrices(mats) => Lobe::Matrices(mats.clone()),
         })

@@ -6,7 +6,7 @@ use super::mesh::Mesh;
 use super::sky::{RayleighSky, Sun};
 use crate::error::{Error, Result};
 use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
-use crate::optics::{Channel, Conductor, Lambertian, Material, PolarizedPlastic};
+use crate::optics::{Channel, ComplexIor, Conductor, Lambertian, Material, PolarizedPlastic};
 use crate::polarized::{
     project_operator, FieldArgument, PshEvaluator, PshMatrix, PshVector, SpinBlock22,
 };
@@ -24,8 +24,9 @@ pub enum SceneMaterial {
     /// A dielectric with a depolarizing diffuse base ([`PolarizedPlastic`]), the same in
     /// every channel.
     Plastic(PolarizedPlastic),
-    /// A conductor of the PF table with GGX roughness `alpha` ([`Conductor::from_material`]).
-    Conductor { material: Material, alpha: f64 },
+    /// A conductor of complex index `ior` per channel (RGB) with GGX roughness `alpha`
+    /// ([`Conductor`]; [`Self::conductor`] for one of the PF table).
+    Conductor { ior: [ComplexIor; 3], alpha: f64 },
     /// A depolarizing Lambertian reflector per channel (RGB albedos, [`Lambertian`]).
     Diffuse([Lambertian; 3]),
     /// Coefficient matrices given directly (RGB), e.g. a measured pBRDF read from a
@@ -34,6 +35,15 @@ pub enum SceneMaterial {
 }
 
 impl SceneMaterial {
+    /// The conductor `material` of the PF table (its index per channel) with GGX
+    /// roughness `alpha`.
+    pub fn conductor(material: Material, alpha: f64) -> Self {
+        Self::Conductor {
+            ior: [Channel::Red, Channel::Green, Channel::Blue].map(|c| material.ior(c)),
+            alpha,
+        }
+    }
+
     /// The PSH coefficient matrices (RGB) in the shading frame (normal `+z`), band limit
     /// `lmax`, projected on the exact grid of `2 lmax + 2`.
     pub fn matrices(&self, lmax: usize) -> Result<[PshMatrix; 3]> {
@@ -51,13 +61,9 @@ impl SceneMaterial {
                 let m = project(p)?;
                 Ok([m.clone(), m.clone(), m])
             }
-            Self::Conductor { material, alpha } => {
-                let channel = |c| project(&Conductor::from_material(*alpha, *material, c)?);
-                Ok([
-                    channel(Channel::Red)?,
-                    channel(Channel::Green)?,
-                    channel(Channel::Blue)?,
-                ])
+            Self::Conductor { ior, alpha } => {
+                let channel = |c: usize| project(&Conductor::with_ior(*alpha, ior[c])?);
+                Ok([channel(0)?, channel(1)?, channel(2)?])
             }
         }
     }
