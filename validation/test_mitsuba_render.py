@@ -28,7 +28,7 @@ import numpy as np
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 SCENE = ROOT / "scenes" / "mitsuba_sphere.toml"
 SPP = 1024
-LADDER = [2, 3, 4, 6, 9, 12]
+LADDER = [2, 3, 4, 6, 8, 10]
 
 mi.set_variant("scalar_spectral_polarized")
 
@@ -124,18 +124,29 @@ def test_fig19_against_mitsuba(psh, record):
            abs(mean_psh / mean_mi - 1), 5e-3, measure="relative difference",
            detail="Smith G: height-correlated (psh) vs separable (Mitsuba)")
 
+    # Fig. 19's two series: the transfer alone at l_low = l ("low only"; the sphere is
+    # convex, its visibility the tangent plane), and l_low = min(l, 4) with the high
+    # orders by convolution to l ("full").
     rows = []
-    for l in LADDER:
-        out = psh.path(f"mitsuba_pprt_{l}")
-        report = psh.run("render", "--scene", SCENE, "--l-low", min(l, 4), "--l-high",
-                         l if l > 4 else 0, "--json", "--out", out)
-        e = rmse(psh_stokes(out), m1, interior)
-        rows.append((l, e, report["times_s"]["frame"], report["times_s"]["precompute"]
-                     + report["times_s"]["plan"]))
-    # Fig. 19: the error falls with the band limit.
-    total = [np.sqrt(sum(x * x for x in e)) for _, e, _, _ in rows]
-    record("PPRT vs Mitsuba 3: total RMSE at l = 12 over l = 2 (falls with l)", "mitsuba",
-           total[-1] / total[0], 0.5, measure="ratio")
+    for setting in ["low_only", "full"]:
+        for l in LADDER:
+            l_low, l_high = (l, 0) if setting == "low_only" else (min(l, 4), l if l > 4 else 0)
+            out = psh.path(f"mitsuba_pprt_{setting}_{l}")
+            report = psh.run("render", "--scene", SCENE, "--l-low", l_low, "--l-high", l_high,
+                             "--json", "--out", out)
+            e = rmse(psh_stokes(out), m1, interior)
+            times = report["times_s"]
+            rows.append((setting, l, l_low, l_high, e, times["frame"],
+                         times["precompute"] + times["plan"]))
+    total = {(r[0], r[1]): float(np.sqrt(sum(x * x for x in r[4]))) for r in rows}
+    # Fig. 19: the error of the transfer falls with its band limit (over even l: a
+    # truncation at odd l adds the odd part of the horizon's step, see docs/mitsuba.md).
+    even = [l for l in LADDER if l % 2 == 0]
+    rises = max(total[("low_only", b)] / total[("low_only", a)] for a, b in zip(even, even[1:]))
+    record("PPRT low-only vs Mitsuba 3: largest ratio of total RMSE between successive even l",
+           "mitsuba", rises, 1.0, measure="ratio")
+    record("PPRT low-only vs Mitsuba 3: total RMSE at l = 10 over l = 2", "mitsuba",
+           total[("low_only", 10)] / total[("low_only", 2)], 0.5, measure="ratio")
 
     lines = [
         "# psh against Mitsuba 3 (PSH Fig. 19)",
@@ -157,14 +168,28 @@ def test_fig19_against_mitsuba(psh, record):
         f"| psh reference, {SPP} spp | | " + " | ".join(f"{x:.4f}" for x in to_ref)
         + f" | {meta['seconds']:.2f} | |",
     ]
-    for (l, e, frame, pre), t in zip(rows, total):
-        lines.append(f"| PPRT (l_low {min(l, 4)}, l_high {l if l > 4 else '-'}) | {l} | "
+    for setting, l, l_low, l_high, e, frame, pre in rows:
+        lines.append(f"| PPRT {setting} (l_low {l_low}, l_high {l_high or '-'}) | {l} | "
                      + " | ".join(f"{x:.4f}" for x in e) + f" | {frame:.3f} | {pre:.2f} |")
     lines += [
         "",
         f"Mean s0 over the sphere: psh reference {mean_psh:.4f}, Mitsuba {mean_mi:.4f}.",
         "s3 is zero in both (one bounce of unpolarized light on a conductor creates "
         "none), so this scene does not test the sign of s3.",
+        "",
+        "Under a constant environment only the degree 0 of the light is non-zero, so the "
+        "high orders by convolution (degrees above l_low) add nothing: PPRT's error is the "
+        "band limit of the outgoing radiance in the view direction, set by l_low, and it "
+        "falls with l_low (the `low_only` rows). A truncation at odd l_low is worse than at "
+        "the even degree below it: the outgoing field vanishes below the shading plane, a "
+        "step at its equator whose expansion beyond degree 0 is odd, and an odd partial sum "
+        "overshoots it. The `full` rows stay near the l_low = 4 figure; they differ from it "
+        "because the materials are projected once at max(l_low, l_high) on the grid of "
+        "band 2 lmax + 2, and the GGX lobe (alpha 0.2) is not band-limited there, so its "
+        "degrees up to 4 alias differently on each grid. Measured at l_low = 4 with the "
+        "grid's band forced to 10, 20 and 40: s0 RMSE 0.0557, 0.0465, 0.0588 (not "
+        "monotone; `l_low` 6, 8, 10 on the default grid: 0.0352, 0.0315, 0.0241): the limit "
+        "is the band limit, with an aliasing spread of about 20% on top.",
         "",
         "Not yet compared here (issue 24): a dielectric, a non-constant environment, a rolled "
         "camera, shadows (buddha on the plane under sponza), `psh export-mitsuba`, and "
