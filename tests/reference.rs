@@ -35,7 +35,7 @@ fn bench_error_writes_the_contract() {
         spp: vec![1, 4],
         ground_truth_spp: 16,
     };
-    let report = bench_error(&scene, &options, &dir).unwrap();
+    let report = bench_error(&scene, &options, &dir, &psh::progress::Silent).unwrap();
     assert_eq!(report.ground_truth_spp, 16);
     let rows = &report.rows;
     assert_eq!(rows.len(), 2 * 3 + 2 + 1);
@@ -52,6 +52,10 @@ fn bench_error_writes_the_contract() {
             .unwrap();
     assert_eq!(file["rows"].as_array().unwrap().len(), rows.len());
     assert_eq!(file["ground_truth_spp"], 16);
+    // The CSV filled row by row is renamed at the end.
+    assert!(!dir.join("bench-error.partial.csv").exists());
+    let csv = std::fs::read_to_string(dir.join("bench-error.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + rows.len());
     for f in [
         "bench-error.json",
         "bench-error.csv",
@@ -64,6 +68,8 @@ fn bench_error_writes_the_contract() {
         l_max: 7,
         ..options
     };
-    let e = bench_error(&scene, &bad, &dir).unwrap_err().to_string();
+    let e = bench_error(&scene, &bad, &dir, &psh::progress::Silent)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("l_max 7"), "{e}");
 }

@@ -16,7 +16,9 @@ use crate::pprt::render::{direct_light, primary_hits, render_frame, StokesImage}
 use crate::pprt::scene::Scene;
 use crate::pprt::settings::{Planning, TransferSettings, Visibility};
 use crate::pprt::transfer::precompute_planned;
+use crate::progress::Progress;
 use serde::Serialize;
+use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
@@ -132,11 +134,14 @@ pub fn rmse(a: &StokesImage, truth: &StokesImage) -> Result<[f64; 4]> {
 /// `bench-error.png` (log10 total RMSE against log10 seconds per frame: PPRT `full` red,
 /// `no_shadow` orange, `low_only` purple, the reference blue; grid lines every decade)
 /// and `fig19.png` (log10 RMSE of `s0..s3`, black, red, green, blue, against `l` for
-/// PPRT `full`; grid every band and every decade) into `out`. Returns the JSON.
+/// PPRT `full`; grid every band and every decade) into `out`. Returns the JSON. The CSV
+/// fills a row at a time as `bench-error.partial.csv` (renamed at the end); `progress`
+/// counts the ground truth and the rows.
 pub fn bench_error(
     scene: &Scene,
     options: &BenchErrorOptions,
     out: &Path,
+    progress: &dyn Progress,
 ) -> Result<BenchErrorReport> {
     if options.l_max < 2 || options.l_max > scene.environment().lmax() || options.spp.is_empty() {
         return Err(Error::InvalidArgument {
@@ -152,6 +157,15 @@ pub fn bench_error(
         path: out.to_path_buf(),
         source: e,
     })?;
+    // The rows as they come, in bench-error.partial.csv (renamed to bench-error.csv at the
+    // end, so that a failing run leaves an earlier CSV as it was).
+    let partial = out.join("bench-error.partial.csv");
+    let mut csv = Csv::create(&partial)?;
+    let rows_total = 3 * (options.l_max - 1) + options.spp.len() + 1;
+    progress.start(
+        "bench-error: ground truth, then rows",
+        1 + rows_total as u64,
+    );
     let hits = primary_hits(scene);
     let direct = direct_light(scene, &hits)?;
     let reference = |samples, fidelity, seed| -> Result<(StokesImage, f64)> {
@@ -168,7 +182,14 @@ pub fn bench_error(
         Ok((image, t.elapsed().as_secs_f64()))
     };
     let (truth, truth_s) = reference(options.ground_truth_spp, Fidelity::Exact, 1)?;
+    progress.advance(1);
     let mut rows = Vec::new();
+    let mut push = |row: Row| -> Result<()> {
+        csv.row(&row)?;
+        rows.push(row);
+        progress.advance(1);
+        Ok(())
+    };
     for l in 2..=options.l_max {
         for setting in ["full", "no_shadow", "low_only"] {
             let settings = pprt_settings(setting, l, options.rays);
@@ -180,7 +201,7 @@ pub fn bench_error(
             let t = Instant::now();
             let image = render_frame(scene, &transfer, &high, &hits, &direct)?;
             let frame_s = t.elapsed().as_secs_f64();
-            rows.push(Row {
+            push(Row {
                 method: "pprt",
                 setting,
                 l_max: Some(l),
@@ -188,12 +209,12 @@ pub fn bench_error(
                 precompute_s,
                 frame_s,
                 rmse: rmse(&image, &truth)?,
-            });
+            })?;
         }
     }
     for &spp in &options.spp {
         let (image, frame_s) = reference(spp, Fidelity::Exact, 2)?;
-        rows.push(Row {
+        push(Row {
             method: "reference",
             setting: "exact",
             l_max: None,
@@ -201,7 +222,7 @@ pub fn bench_error(
             precompute_s: 0.0,
             frame_s,
             rmse: rmse(&image, &truth)?,
-        });
+        })?;
     }
     // The band-limit floor: the reference with the environment cut at l_max.
     let (image, frame_s) = reference(
@@ -209,7 +230,7 @@ pub fn bench_error(
         Fidelity::BandLimitedEnvironment(options.l_max),
         2,
     )?;
-    rows.push(Row {
+    push(Row {
         method: "reference",
         setting: "band_limited_env",
         l_max: Some(options.l_max),
@@ -217,7 +238,8 @@ pub fn bench_error(
         precompute_s: 0.0,
         frame_s,
         rmse: rmse(&image, &truth)?,
-    });
+    })?;
+    progress.finish();
     let speedup = speedup_at_equal_error(&rows, options.l_max);
     let report = BenchErrorReport {
         ground_truth_spp: options.ground_truth_spp,
@@ -236,13 +258,43 @@ pub fn bench_error(
                 reason: e.to_string(),
             })?,
     )?;
-    let mut csv = String::from(
-        "method,setting,l_max,spp,precompute_s,frame_s,rmse_s0,rmse_s1,rmse_s2,rmse_s3\n",
-    );
-    for r in &report.rows {
+    std::fs::rename(&partial, out.join("bench-error.csv")).map_err(|e| Error::Io {
+        path: partial.clone(),
+        source: e,
+    })?;
+    plot_error_time(&report.rows, &out.join("bench-error.png"))?;
+    plot_fig19(&report.rows, options.l_max, &out.join("fig19.png"))?;
+    Ok(report)
+}
+
+/// `bench-error.csv` written a row at a time.
+struct Csv {
+    path: std::path::PathBuf,
+    file: std::fs::File,
+}
+
+impl Csv {
+    fn create(path: &Path) -> Result<Self> {
+        let io = |e| Error::Io {
+            path: path.to_path_buf(),
+            source: e,
+        };
+        let mut file = std::fs::File::create(path).map_err(io)?;
+        file.write_all(
+            b"method,setting,l_max,spp,precompute_s,frame_s,rmse_s0,rmse_s1,rmse_s2,rmse_s3\n",
+        )
+        .map_err(io)?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            file,
+        })
+    }
+
+    fn row(&mut self, r: &Row) -> Result<()> {
         let opt = |x: Option<usize>| x.map_or(String::new(), |v| v.to_string());
-        csv += &format!(
-            "{},{},{},{},{:.6},{:.6},{:.6e},{:.6e},{:.6e},{:.6e}\n",
+        writeln!(
+            self.file,
+            "{},{},{},{},{:.6},{:.6},{:.6e},{:.6e},{:.6e},{:.6e}",
             r.method,
             r.setting,
             opt(r.l_max),
@@ -253,12 +305,13 @@ pub fn bench_error(
             r.rmse[1],
             r.rmse[2],
             r.rmse[3]
-        );
+        )
+        .and_then(|()| self.file.flush())
+        .map_err(|e| Error::Io {
+            path: self.path.clone(),
+            source: e,
+        })
     }
-    write_text(out.join("bench-error.csv"), &csv)?;
-    plot_error_time(&report.rows, &out.join("bench-error.png"))?;
-    plot_fig19(&report.rows, options.l_max, &out.join("fig19.png"))?;
-    Ok(report)
 }
 
 /// The reference's frame time at PPRT `full`'s total RMSE at `l_max`, by log-log

@@ -1258,7 +1258,10 @@ fn bench_error(a: &BenchErrorArgs) -> psh::Result<serde_json::Value> {
         ground_truth_spp: a.ground_truth_spp,
     };
     to_json(&psh::apps::bench_error::bench_error(
-        &scene, &options, &a.out,
+        &scene,
+        &options,
+        &a.out,
+        &TerminalProgress::new(),
     )?)
 }
 
