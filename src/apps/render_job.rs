@@ -108,13 +108,7 @@ pub fn render_job(
     valid_range: bool,
     progress: &dyn Progress,
 ) -> Result<(RenderReport, StokesImage)> {
-    // The image with its files and pictures, before any work.
-    let cam = scene.camera();
-    crate::io::check_stokes_output(cam.width.saturating_mul(cam.height), 3)?;
-    std::fs::create_dir_all(out).map_err(|e| Error::Io {
-        path: out.to_path_buf(),
-        source: e,
-    })?;
+    prepare_output(scene, out)?;
     let t0 = Instant::now();
     let vertices: usize = scene
         .objects()
@@ -197,6 +191,17 @@ pub fn render_job(
     Ok((report, image))
 }
 
+/// Checks that the camera's image with its files and pictures fits the memory budget,
+/// then creates `out`: before any work.
+fn prepare_output(scene: &Scene, out: &Path) -> Result<()> {
+    let cam = scene.camera();
+    crate::io::check_stokes_output(cam.width.saturating_mul(cam.height), 3)?;
+    std::fs::create_dir_all(out).map_err(|e| Error::Io {
+        path: out.to_path_buf(),
+        source: e,
+    })
+}
+
 /// `render_s{0..3}.exr`, `render_{s0,s1,s2,s3,dop,aop}.png` and `polarizer_{deg}.png` of
 /// `image` in `out`; returns the files written.
 fn write_pictures(image: &StokesImage, polarizers: &[f64], out: &Path) -> Result<Vec<PathBuf>> {
@@ -231,11 +236,7 @@ pub fn reference_job(
     out: &Path,
 ) -> Result<(ReferenceReport, StokesImage)> {
     let cam = scene.camera();
-    crate::io::check_stokes_output(cam.width.saturating_mul(cam.height), 3)?;
-    std::fs::create_dir_all(out).map_err(|e| Error::Io {
-        path: out.to_path_buf(),
-        source: e,
-    })?;
+    prepare_output(scene, out)?;
     let t0 = Instant::now();
     let hits = primary_hits(scene);
     let image = Reference::new(
