@@ -1,5 +1,5 @@
 //! A directional light: a near-delta source at infinity (the sky's sun with
-//! [`super::Sun::Directional`]), reflected exactly by [`super::direct`].
+//! [`super::Sun::Directional`]), reflected exactly by `src/pprt/direct.rs`.
 
 use crate::error::{Error, Result};
 

@@ -139,7 +139,7 @@ pub(crate) fn camera_travel_frame(field: &PerspectiveFrameField, v: [f64; 3]) ->
 /// the scene's source ([`super::EnvironmentSource::incident`]: the sky exactly,
 /// coefficients at their own band limit), never the transfer's band-limited copy, whose
 /// ringing would show as the sky; where a surface is hit, the source's directional lights
-/// reflected once with a shadow ray ([`super::direct`]; zero without such lights).
+/// reflected once with a shadow ray (`src/pprt/direct.rs`; zero without such lights).
 pub fn direct_light(scene: &Scene, hits: &[Option<Hit>]) -> Result<Vec<[[f64; 4]; 3]>> {
     let cam = scene.camera();
     let field = PerspectiveFrameField::new(cam.frame);

@@ -207,7 +207,7 @@ impl EnvironmentSource {
     }
 
     /// The directional lights that come with the source (the sky's sun with
-    /// [`super::Sun::Directional`]), reflected exactly by [`super::direct`].
+    /// [`super::Sun::Directional`]), reflected exactly by `src/pprt/direct.rs`.
     pub fn directional_lights(&self) -> Vec<DirectionalLight> {
         match self {
             Self::Sky(sky) => sky.directional_light().into_iter().collect(),

@@ -12,7 +12,7 @@
 //! The sun lobe is about 7 degrees wide and rings at the band limits PPRT uses; with
 //! [`Sun::Directional`] it is taken out of the sky and carried by a
 //! [`DirectionalLight`] of the same power, reflected exactly at every shading point
-//! ([`super::direct`]).
+//! (`src/pprt/direct.rs`).
 
 use super::light::DirectionalLight;
 use crate::error::{Error, Result};
