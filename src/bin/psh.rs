@@ -1206,16 +1206,16 @@ fn parse_angle(x: &str) -> psh::Result<f64> {
         })
 }
 
-/// A positive sample count.
+/// A positive sample count (`--spp`, `--reference`).
 fn parse_spp(x: &str) -> psh::Result<usize> {
     x.trim()
         .parse::<usize>()
         .ok()
         .filter(|&n| n > 0)
         .ok_or_else(|| Error::InvalidArgument {
-            name: "--spp",
+            name: "sample count",
             value: x.to_string(),
-            reason: "positive sample counts, comma-separated".into(),
+            reason: "a positive number of samples (--spp: comma-separated)".into(),
         })
 }
 

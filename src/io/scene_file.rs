@@ -423,7 +423,7 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
                             .map(|c| ComplexIor::new(n[c], k[c]))
                             .into_iter()
                             .collect::<Result<Vec<_>>>()
-                            .map_err(|e| at("eta", e))?
+                            .map_err(|e| at("eta, k", e))?
                             .try_into()
                             .expect("three channels"),
                         alpha: *alpha,
@@ -493,7 +493,8 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
                 rings,
                 segments,
             } => {
-                crate::budget::check("sphere vertices", &[*rings + 1, *segments + 1], 48)?;
+                // Per vertex: position and normal (48 bytes), two triangles (24).
+                crate::budget::check("sphere mesh", &[*rings + 1, *segments + 1], 72)?;
                 (Mesh::sphere(*center, *radius, *rings, *segments), material)
             }
             MeshSpec::Plane {
