@@ -427,6 +427,9 @@ enum Eval {
     /// coefficients and the Mueller matrices in the travel frames and in psh's frames,
     /// printing JSON.
     Fresnel(FresnelArgs),
+    /// The cosine-weighted GGX microfacet pBRDF P(w_i, w_o) of a complex index
+    /// (psh::optics::MicrofacetSpecular) in its s/p frames, printing JSON.
+    Microfacet(MicrofacetArgs),
     /// The Mueller matrix of the ideal linear polarizer (psh::optics::LinearPolarizer),
     /// printing JSON.
     Polarizer(PolarizerArgs),
@@ -548,6 +551,38 @@ struct FresnelArgs {
         required = true
     )]
     cos_i: Vec<f64>,
+}
+
+#[derive(Args)]
+struct MicrofacetArgs {
+    /// GGX roughness alpha.
+    #[arg(long)]
+    alpha: f64,
+    /// Real part n of the relative index eta = n + i k.
+    #[arg(long)]
+    n: f64,
+    /// Extinction coefficient k >= 0.
+    #[arg(long, default_value_t = 0.0)]
+    k: f64,
+    /// Smith's masking-shadowing form: height-correlated or separable.
+    #[arg(long, default_value = "height-correlated")]
+    masking: String,
+    /// Direction towards the source X,Y,Z in the shading frame (normal +z).
+    #[arg(
+        long,
+        allow_hyphen_values = true,
+        value_delimiter = ',',
+        required = true
+    )]
+    wi: Vec<f64>,
+    /// Direction towards the viewer X,Y,Z.
+    #[arg(
+        long,
+        allow_hyphen_values = true,
+        value_delimiter = ',',
+        required = true
+    )]
+    wo: Vec<f64>,
 }
 
 #[derive(Args)]
@@ -695,6 +730,7 @@ fn main() -> ExitCode {
         Command::Eval(Eval::Sht(a)) => eval_sht(&a),
         Command::Eval(Eval::SpinSht(a)) => eval_spin_sht(&a),
         Command::Eval(Eval::Fresnel(a)) => eval_fresnel(&a),
+        Command::Eval(Eval::Microfacet(a)) => eval_microfacet(&a),
         Command::Eval(Eval::Polarizer(a)) => eval_polarizer(&a),
         Command::Project(a) => project(&a),
         Command::Rotate(a) => rotate(&a),
@@ -1614,6 +1650,31 @@ fn eval_fresnel(a: &FresnelArgs) -> psh::Result<serde_json::Value> {
         })
         .collect::<psh::Result<Vec<_>>>()?;
     Ok(json!({"n": a.n, "k": a.k, "results": results}))
+}
+
+fn eval_microfacet(a: &MicrofacetArgs) -> psh::Result<serde_json::Value> {
+    use psh::stokes::MuellerField;
+    let model =
+        psh::optics::MicrofacetSpecular::new(a.alpha, psh::optics::ComplexIor::new(a.n, a.k)?)?
+            .with_masking(psh::optics::Masking::from_name(&a.masking)?);
+    let three = |name, v: &[f64]| -> psh::Result<[f64; 3]> {
+        v.try_into().map_err(|_| Error::InvalidArgument {
+            name,
+            value: format!("{v:?}"),
+            reason: "three comma-separated numbers X,Y,Z".into(),
+        })
+    };
+    let t = model.transform(three("--wi", &a.wi)?, three("--wo", &a.wo)?)?;
+    let axis = |f: &psh::geometry::Frame| {
+        let x = f.x();
+        [x[0], x[1], x[2]]
+    };
+    Ok(json!({
+        "masking": a.masking,
+        "mueller": mueller_rows(&t.matrix()),
+        "frame_in_x": axis(t.frame_in()),
+        "frame_out_x": axis(t.frame_out()),
+    }))
 }
 
 fn eval_polarizer(a: &PolarizerArgs) -> psh::Result<serde_json::Value> {

@@ -35,6 +35,8 @@
 //!                               # "npz" (path: a polarsh ISOBI2 pBRDF matrix)
 //! ior = 1.5
 //! albedo = 0.2
+//! masking = "height-correlated" # optional (plastic, conductor): Smith's G2 form, or
+//!                               #   "separable" (Mitsuba 3's G1 G1; optics::Masking)
 //!
 //! [[mesh]]
 //! type = "sphere"               # or "plane" (center, half_size), "torus" (center,
@@ -51,7 +53,9 @@
 //! directory). Errors name the file and the field.
 
 use crate::error::{clip, Error, Result};
-use crate::optics::{ComplexIor, Lambertian, Material, PolarizedPlastic};
+use crate::optics::{
+    Channel, ComplexIor, Conductor, Lambertian, Masking, Material, PolarizedPlastic,
+};
 use crate::polarized::{Codomain, FieldArgument, PshVector};
 use crate::pprt::mesh::Mesh;
 use crate::pprt::scene::{Camera, EnvironmentSource, Scene, SceneMaterial, SceneObject};
@@ -196,6 +200,8 @@ enum MaterialSpec {
         alpha: f64,
         ior: f64,
         albedo: f64,
+        #[serde(default)]
+        masking: Option<String>,
     },
     Conductor {
         name: String,
@@ -206,6 +212,8 @@ enum MaterialSpec {
         #[serde(default, deserialize_with = "exactly_some")]
         k: Option<[f64; 3]>,
         alpha: f64,
+        #[serde(default)]
+        masking: Option<String>,
     },
     Diffuse {
         name: String,
@@ -399,43 +407,58 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
                 alpha,
                 ior,
                 albedo,
-            } => (
-                name,
-                PolarizedPlastic::new(*alpha, *ior, *albedo)
-                    .map(SceneMaterial::Plastic)
-                    .map_err(|e| field(&format!("material '{}'", clip(name)), e))?,
-            ),
+                masking,
+            } => {
+                let at = |e| field(&format!("material '{}'", clip(name)), e);
+                let masking = masking_named(masking).map_err(at)?;
+                (
+                    name,
+                    PolarizedPlastic::new(*alpha, *ior, *albedo)
+                        .map(|p| SceneMaterial::Plastic(p.with_masking(masking)))
+                        .map_err(at)?,
+                )
+            }
             MaterialSpec::Conductor {
                 name,
                 table,
                 eta,
                 k,
                 alpha,
+                masking,
             } => {
                 let at = |key: &str, e| field(&format!("material '{}'.{key}", clip(name)), e);
-                let material = match (table, eta, k) {
-                    (Some(t), None, None) => SceneMaterial::conductor(
-                        Material::from_name(t).map_err(|e| at("table", e))?,
-                        *alpha,
-                    ),
-                    (None, Some(n), Some(k)) => SceneMaterial::Conductor {
-                        ior: [0, 1, 2]
-                            .map(|c| ComplexIor::new(n[c], k[c]))
+                let masking = masking_named(masking).map_err(|e| at("masking", e))?;
+                let channels: [Conductor; 3] = match (table, eta, k) {
+                    (Some(t), None, None) => {
+                        let m = Material::from_name(t).map_err(|e| at("table", e))?;
+                        [Channel::Red, Channel::Green, Channel::Blue]
+                            .map(|c| Conductor::from_material(*alpha, m, c))
                             .into_iter()
                             .collect::<Result<Vec<_>>>()
-                            .map_err(|e| at("eta, k", e))?
-                            .try_into()
-                            .expect("three channels"),
-                        alpha: *alpha,
-                    },
+                            .map_err(|e| at("alpha", e))?
+                    }
+                    (None, Some(n), Some(k)) => [0, 1, 2]
+                        .map(|c| ComplexIor::new(n[c], k[c]))
+                        .into_iter()
+                        .collect::<Result<Vec<_>>>()
+                        .map_err(|e| at("eta, k", e))?
+                        .into_iter()
+                        .map(|ior| Conductor::with_ior(*alpha, ior))
+                        .collect::<Result<Vec<_>>>()
+                        .map_err(|e| at("alpha", e))?,
                     _ => {
                         return Err(malformed(format!(
                             "material '{}': a conductor is given by `table` or by `eta` and `k` (RGB), not both",
                             clip(name)
                         )))
                     }
-                };
-                (name, material)
+                }
+                .try_into()
+                .expect("three channels");
+                (
+                    name,
+                    SceneMaterial::Conductor(channels.map(|c| c.with_masking(masking))),
+                )
             }
             MaterialSpec::Diffuse { name, albedo } => {
                 let lambert = |c: usize| {
@@ -541,6 +564,12 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
         .and_then(|s| s.with_source(source))
         .map_err(|e| malformed(e.to_string()))?;
     Ok((scene, settings))
+}
+
+/// A material's masking-shadowing form: the default when the file does not say.
+fn masking_named(name: &Option<String>) -> Result<Masking> {
+    name.as_deref()
+        .map_or(Ok(Masking::default()), Masking::from_name)
 }
 
 /// Coefficients given in a frame with another up axis, turned to psh's world.

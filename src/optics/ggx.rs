@@ -1,5 +1,6 @@
-//! The isotropic GGX (Trowbridge-Reitz) microfacet distribution and its height-correlated
-//! Smith masking-shadowing function, in the local shading frame (normal `+z`).
+//! The isotropic GGX (Trowbridge-Reitz) microfacet distribution and its Smith
+//! masking-shadowing function (height-correlated or separable), in the local shading frame
+//! (normal `+z`).
 
 use crate::error::{Error, Result};
 use nalgebra::Vector3;
@@ -12,11 +13,52 @@ pub const MIN_ROUGHNESS: f64 = 1e-4;
 /// Largest accepted roughness `alpha` (`D` at grazing microfacets is `alpha^2/pi`).
 pub const MAX_ROUGHNESS: f64 = 1e4;
 
+/// The form of Smith's masking-shadowing function `G2` built from `Lambda` (Heitz 2014,
+/// "Understanding the masking-shadowing function in microfacet-based BRDFs", JCGT 3(2),
+/// Sec. 6): both agree with `G1` when one direction is the normal, and differ at grazing.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Masking {
+    /// `G2 = 1/(1 + Lambda(w_i) + Lambda(w_o))` (Heitz 2014 (99)): a point hidden from one
+    /// direction is likelier hidden from the other (psh's default).
+    #[default]
+    HeightCorrelated,
+    /// `G2 = G1(w_i) G1(w_o)`, `G1 = 1/(1 + Lambda)` (Heitz 2014 (98); Walter et al. 2007
+    /// (23)): masking and shadowing independent, as Mitsuba 3's microfacet BSDFs.
+    Separable,
+}
+
+impl Masking {
+    /// Every form, in the order of [`Self::name`]'s names.
+    pub const ALL: [Masking; 2] = [Masking::HeightCorrelated, Masking::Separable];
+
+    /// The name scene files and the command line use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Masking::HeightCorrelated => "height-correlated",
+            Masking::Separable => "separable",
+        }
+    }
+
+    /// The form named `name`. Error: another name (the message lists the names).
+    pub fn from_name(name: &str) -> Result<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|m| m.name() == name)
+            .ok_or_else(|| Error::InvalidArgument {
+                name: "masking",
+                value: crate::error::clip(name),
+                reason: "one of height-correlated, separable".into(),
+            })
+    }
+}
+
 /// The isotropic GGX distribution of microfacet normals with roughness `alpha`
-/// (Walter et al. 2007, "Microfacet models for refraction through rough surfaces", (33)).
+/// (Walter et al. 2007, "Microfacet models for refraction through rough surfaces", (33)),
+/// with a form of Smith's masking-shadowing function ([`Masking`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ggx {
     alpha: f64,
+    masking: Masking,
 }
 
 impl Ggx {
@@ -31,12 +73,25 @@ impl Ggx {
                 reason: format!("must be in [{MIN_ROUGHNESS:e}, {MAX_ROUGHNESS:e}]"),
             });
         }
-        Ok(Self { alpha })
+        Ok(Self {
+            alpha,
+            masking: Masking::default(),
+        })
+    }
+
+    /// This distribution with the masking-shadowing form `masking`.
+    pub fn with_masking(self, masking: Masking) -> Self {
+        Self { masking, ..self }
     }
 
     /// The roughness `alpha`.
     pub fn alpha(&self) -> f64 {
         self.alpha
+    }
+
+    /// The masking-shadowing form.
+    pub fn masking(&self) -> Masking {
+        self.masking
     }
 
     /// The distribution of normals `D(h)` for a unit `h` (Walter et al. 2007 (33)):
@@ -61,19 +116,38 @@ impl Ggx {
         (w[2] * w[2] + self.alpha * self.alpha * sin2).sqrt()
     }
 
-    /// The height-correlated Smith masking-shadowing function
-    /// `G2(w_i, w_o) = 1/(1 + Lambda(w_i) + Lambda(w_o))` (Heitz 2014, height-correlated
-    /// form), for `w_i`, `w_o` in the upper hemisphere and microfacets facing both
-    /// (always true for the half vector of two upper-hemisphere directions); `0` if either
-    /// is at or below the horizon. Symmetric in its arguments.
-    /// Written as `2 c_i c_o / (c_o L_i + c_i L_o)` (since `1 + Lambda_i + Lambda_o =
-    /// (L_i/c_i + L_o/c_o)/2`) to stay exact at grazing.
+    /// Smith's masking-shadowing function `G2(w_i, w_o)` in the form [`Self::masking`], for
+    /// `w_i`, `w_o` in the upper hemisphere and microfacets facing both (always true for the
+    /// half vector of two upper-hemisphere directions); `0` if either is at or below the
+    /// horizon. Symmetric in its arguments. `G2 = 4 c_i c_o` [`Self::g2_over_4co`]` / c_i`.
     pub fn g2(&self, wi: &Vector3<f64>, wo: &Vector3<f64>) -> f64 {
-        let (ci, co) = (wi[2], wo[2]);
-        if ci <= 0.0 || co <= 0.0 {
+        if wi[2] <= 0.0 || wo[2] <= 0.0 {
             return 0.0;
         }
-        2.0 * ci * co / (co * self.smith_l(wi) + ci * self.smith_l(wo))
+        4.0 * wo[2] * self.g2_over_4co(wi, wo)
+    }
+
+    /// `G2(w_i, w_o) / (4 cos theta_o)`, the factor of `F D` in the cosine-weighted
+    /// microfacet pBRDF `P = f cos theta_i = F D G2 / (4 cos theta_o)`, written with
+    /// `L` ([`Self::smith_l`]) so that it stays finite at grazing `w_o` (since
+    /// `1 + Lambda = (L/c + 1)/2`):
+    ///
+    /// ```text
+    /// height-correlated:  c_i / (2 (c_o L_i + c_i L_o))    (1 + Lambda_i + Lambda_o = (L_i/c_i + L_o/c_o)/2)
+    /// separable:          c_i / ((c_i + L_i)(c_o + L_o))   (G1 = 2 c / (c + L))
+    /// ```
+    ///
+    /// `0` if `w_i` is at or below the horizon or `w_o` below it.
+    pub fn g2_over_4co(&self, wi: &Vector3<f64>, wo: &Vector3<f64>) -> f64 {
+        let (ci, co) = (wi[2], wo[2]);
+        if ci <= 0.0 || co < 0.0 {
+            return 0.0;
+        }
+        let (li, lo) = (self.smith_l(wi), self.smith_l(wo));
+        match self.masking {
+            Masking::HeightCorrelated => ci / (2.0 * (co * li + ci * lo)),
+            Masking::Separable => ci / ((ci + li) * (co + lo)),
+        }
     }
 }
 
@@ -125,5 +199,42 @@ mod tests {
         };
         let expect = 1.0 / (1.0 + lambda(0.8) + lambda(1.0));
         assert!((g.g2(&w, &n) - expect).abs() < 1e-15);
+    }
+
+    /// The separable form against `G1(w_i) G1(w_o)` with `G1 = 1/(1 + Lambda)` and
+    /// `Lambda = (sqrt(1 + a^2 tan^2) - 1)/2` (Heitz 2014 (98), (86)), written from the
+    /// angles; never above the height-correlated form (`1 + a + b <= (1 + a)(1 + b)`), equal
+    /// to it when one direction is the normal.
+    #[test]
+    fn separable_is_the_product_of_g1() {
+        let alpha = 0.3;
+        let g = Ggx::new(alpha).unwrap().with_masking(Masking::Separable);
+        let hc = Ggx::new(alpha).unwrap();
+        let lambda = |theta: f64| ((1.0 + (alpha * theta.tan()).powi(2)).sqrt() - 1.0) / 2.0;
+        let dir = |theta: f64, phi: f64| {
+            Vector3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            )
+        };
+        for (ti, to) in [(0.2, 1.1), (1.5, 0.4), (1.55, 1.56), (0.0, 0.9)] {
+            let (wi, wo) = (dir(ti, 0.3), dir(to, 2.0));
+            let expect = 1.0 / ((1.0 + lambda(ti)) * (1.0 + lambda(to)));
+            assert!((g.g2(&wi, &wo) - expect).abs() < 1e-14, "{ti} {to}");
+            assert!(g.g2(&wi, &wo) <= hc.g2(&wi, &wo) + 1e-15);
+            let ratio = g.g2_over_4co(&wi, &wo) * 4.0 * wo[2] / g.g2(&wi, &wo);
+            assert!((ratio - 1.0).abs() < 1e-13);
+        }
+        let n = Vector3::new(0.0, 0.0, 1.0);
+        let w = dir(1.2, 0.5);
+        assert!((g.g2(&w, &n) - hc.g2(&w, &n)).abs() < 1e-15);
+        assert!(Masking::from_name("smith")
+            .unwrap_err()
+            .to_string()
+            .contains("separable"));
+        for m in Masking::ALL {
+            assert_eq!(Masking::from_name(m.name()).unwrap(), m);
+        }
     }
 }

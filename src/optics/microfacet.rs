@@ -1,8 +1,9 @@
-//! The polarized microfacet specular pBRDF: GGX, height-correlated Smith, and the Fresnel
-//! Mueller matrix at the half vector in the `s`/`p` frames of the microfacet.
+//! The polarized microfacet specular pBRDF: GGX, Smith masking-shadowing (height-correlated
+//! or separable), and the Fresnel Mueller matrix at the half vector in the `s`/`p` frames
+//! of the microfacet.
 
 use super::fresnel::FresnelCoefficients;
-use super::ggx::Ggx;
+use super::ggx::{Ggx, Masking};
 use super::ior::ComplexIor;
 use crate::error::Result;
 use crate::geometry::check_direction;
@@ -62,12 +63,12 @@ pub(crate) fn sp_frames_unit(wi: &Vector3<f64>, wo: &Vector3<f64>) -> Result<(Fr
 ///
 /// (Walter et al. 2007 (20) with the Mueller matrix `F` of the Fresnel reflection at the
 /// microfacet, as Mitsuba 3's polarized `roughconductor`), with `D` GGX (Walter (33)),
-/// `G2` the height-correlated Smith function (Heitz 2014), and `F` =
-/// [`FresnelCoefficients::mueller`] in the frames of [`sp_frames`]. Written as
-/// `P = F D cos theta_i / (2 (c_o L_i + c_i L_o))` ([`Ggx::smith_l`]), finite
-/// at grazing angles: `P = 0` at `cos theta_i = 0`, and `F D / (2 alpha)` at
-/// `cos theta_o = 0`. Zero matrix when `w_i` or `w_o` is below the horizon
-/// (`z < 0`), or `w_i` on it.
+/// `G2` Smith's function in the form of [`Ggx::masking`] (height-correlated by default,
+/// Heitz 2014; separable as Mitsuba 3), and `F` = [`FresnelCoefficients::mueller`] in the
+/// frames of [`sp_frames`]. Written as `P = F D G2/(4 c_o)` with [`Ggx::g2_over_4co`],
+/// finite at grazing angles: `P = 0` at `cos theta_i = 0`, and finite at
+/// `cos theta_o = 0` (`F D / (2 alpha)` height-correlated). Zero matrix when `w_i` or `w_o`
+/// is below the horizon (`z < 0`), or `w_i` on it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MicrofacetSpecular {
     ggx: Ggx,
@@ -81,6 +82,14 @@ impl MicrofacetSpecular {
             ggx: Ggx::new(alpha)?,
             ior,
         })
+    }
+
+    /// This model with the masking-shadowing form `masking`.
+    pub fn with_masking(self, masking: Masking) -> Self {
+        Self {
+            ggx: self.ggx.with_masking(masking),
+            ..self
+        }
     }
 
     /// The microfacet distribution.
@@ -112,10 +121,7 @@ impl MicrofacetSpecular {
         let fresnel = FresnelCoefficients::new(cos_d, &self.ior)?
             .mueller()
             .matrix();
-        let (li, lo) = (self.ggx.smith_l(wi), self.ggx.smith_l(wo));
-        let denom = 2.0 * (co * li + ci * lo);
-        let scale = self.ggx.d(&h) * ci / denom;
-        Ok(fresnel * scale)
+        Ok(fresnel * (self.ggx.d(&h) * self.ggx.g2_over_4co(wi, wo)))
     }
 }
 

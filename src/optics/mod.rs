@@ -49,7 +49,7 @@ pub use filter_table::{
     SpecularSource, ERROR_LIMITS_DEGREES, SAMPLES, STEP_DEGREES,
 };
 pub use fresnel::{fresnel, specular_reflection, FresnelCoefficients};
-pub use ggx::{Ggx, MAX_ROUGHNESS, MIN_ROUGHNESS};
+pub use ggx::{Ggx, Masking, MAX_ROUGHNESS, MIN_ROUGHNESS};
 pub use ior::{ComplexIor, MAX_IOR};
 pub use lambertian::Lambertian;
 pub use material::{Channel, Material, WAVELENGTHS_NM};

@@ -1,6 +1,7 @@
 //! Two complete pBRDFs: a polarized plastic (dielectric microfacet specular plus a
 //! depolarizing diffuse base) and a rough conductor.
 
+use super::ggx::Masking;
 use super::ior::ComplexIor;
 use super::lambertian::Lambertian;
 use super::material::{Channel, Material};
@@ -32,6 +33,14 @@ impl PolarizedPlastic {
         })
     }
 
+    /// This plastic with the specular term's masking-shadowing form `masking`.
+    pub fn with_masking(self, masking: Masking) -> Self {
+        Self {
+            specular: self.specular.with_masking(masking),
+            ..self
+        }
+    }
+
     /// The specular term.
     pub fn specular(&self) -> &MicrofacetSpecular {
         &self.specular
@@ -55,8 +64,8 @@ impl MuellerField for PolarizedPlastic {
 }
 
 /// A rough conductor: the [`MicrofacetSpecular`] reflection of a complex index
-/// `n + i k` (Mitsuba 3's polarized `roughconductor` with GGX and height-correlated
-/// Smith shadowing).
+/// `n + i k` (Mitsuba 3's polarized `roughconductor` with GGX; Smith's masking
+/// height-correlated by default, separable as Mitsuba's with [`Self::with_masking`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Conductor {
     specular: MicrofacetSpecular,
@@ -83,6 +92,13 @@ impl Conductor {
         Ok(Self {
             specular: MicrofacetSpecular::new(alpha, material.ior(channel))?,
         })
+    }
+
+    /// This conductor with the masking-shadowing form `masking`.
+    pub fn with_masking(self, masking: Masking) -> Self {
+        Self {
+            specular: self.specular.with_masking(masking),
+        }
     }
 
     /// The specular term.

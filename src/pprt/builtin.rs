@@ -19,7 +19,7 @@ pub fn builtin_scene(lmax: usize, width: usize, height: usize) -> Result<Scene> 
     let materials = vec![
         SceneMaterial::Plastic(PolarizedPlastic::new(0.6, 1.5, 0.6)?),
         SceneMaterial::Plastic(PolarizedPlastic::new(0.15, 1.5, 0.2)?),
-        SceneMaterial::conductor(Material::Gold, 0.2),
+        SceneMaterial::conductor(Material::Gold, 0.2)?,
     ];
     Scene::new(
         builtin_objects()?,

@@ -71,10 +71,7 @@ impl Lobe {
         Ok(match m {
             SceneMaterial::Diffuse(d) => Lobe::Diffuse(*d),
             SceneMaterial::Plastic(p) => Lobe::Plastic(*p),
-            SceneMaterial::Conductor { ior, alpha } => {
-                let c = |ch: usize| Conductor::with_ior(*alpha, ior[ch]);
-                Lobe::Conductor([c(0)?, c(1)?, c(2)?])
-            }
+            SceneMaterial::Conductor(c) => Lobe::Conductor(*c),
             SceneMaterial::Matrices(mats) => Lobe::Matrices(mats.clone()),
         })
     }

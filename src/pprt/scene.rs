@@ -6,7 +6,7 @@ use super::mesh::Mesh;
 use super::sky::{RayleighSky, Sun};
 use crate::error::{Error, Result};
 use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
-use crate::optics::{Channel, ComplexIor, Conductor, Lambertian, Material, PolarizedPlastic};
+use crate::optics::{Channel, Conductor, Lambertian, Material, PolarizedPlastic};
 use crate::polarized::{
     project_operator, FieldArgument, PshEvaluator, PshMatrix, PshVector, SpinBlock22,
 };
@@ -24,9 +24,9 @@ pub enum SceneMaterial {
     /// A dielectric with a depolarizing diffuse base ([`PolarizedPlastic`]), the same in
     /// every channel.
     Plastic(PolarizedPlastic),
-    /// A conductor of complex index `ior` per channel (RGB) with GGX roughness `alpha`
-    /// ([`Conductor`]; [`Self::conductor`] for one of the PF table).
-    Conductor { ior: [ComplexIor; 3], alpha: f64 },
+    /// A rough conductor per channel (RGB: complex index, GGX roughness and masking form,
+    /// [`Conductor`]; [`Self::conductor`] for one of the PF table).
+    Conductor([Conductor; 3]),
     /// A depolarizing Lambertian reflector per channel (RGB albedos, [`Lambertian`]).
     Diffuse([Lambertian; 3]),
     /// Coefficient matrices given directly (RGB), e.g. a measured pBRDF read from a
@@ -36,12 +36,14 @@ pub enum SceneMaterial {
 
 impl SceneMaterial {
     /// The conductor `material` of the PF table (its index per channel) with GGX
-    /// roughness `alpha`.
-    pub fn conductor(material: Material, alpha: f64) -> Self {
-        Self::Conductor {
-            ior: [Channel::Red, Channel::Green, Channel::Blue].map(|c| material.ior(c)),
-            alpha,
-        }
+    /// roughness `alpha`. Error: `alpha` out of [`crate::optics::Ggx::new`]'s range.
+    pub fn conductor(material: Material, alpha: f64) -> Result<Self> {
+        let c = |channel| Conductor::from_material(alpha, material, channel);
+        Ok(Self::Conductor([
+            c(Channel::Red)?,
+            c(Channel::Green)?,
+            c(Channel::Blue)?,
+        ]))
     }
 
     /// The PSH coefficient matrices (RGB) in the shading frame (normal `+z`), band limit
@@ -61,10 +63,7 @@ impl SceneMaterial {
                 let m = project(p)?;
                 Ok([m.clone(), m.clone(), m])
             }
-            Self::Conductor { ior, alpha } => {
-                let channel = |c: usize| project(&Conductor::with_ior(*alpha, ior[c])?);
-                Ok([channel(0)?, channel(1)?, channel(2)?])
-            }
+            Self::Conductor(c) => Ok([project(&c[0])?, project(&c[1])?, project(&c[2])?]),
         }
     }
 }
