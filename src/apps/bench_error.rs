@@ -117,8 +117,8 @@ pub fn rmse(a: &StokesImage, truth: &StokesImage) -> Result<[f64; 4]> {
     let mut sq = [0.0; 4];
     let mut count = 0usize;
     for (c, t) in a.channels.iter().zip(&truth.channels) {
-        for ((x, y), &on) in c.iter().zip(t).zip(&truth.surface) {
-            if on {
+        for ((x, y), object) in c.iter().zip(t).zip(&truth.object) {
+            if object.is_some() {
                 count += 1;
                 for q in 0..4 {
                     sq[q] += (x[q] - y[q]).powi(2);

@@ -202,8 +202,9 @@ fn prepare_output(scene: &Scene, out: &Path) -> Result<()> {
     })
 }
 
-/// `render_s{0..3}.exr`, `render_{s0,s1,s2,s3,dop,aop}.png` and `polarizer_{deg}.png` of
-/// `image` in `out`; returns the files written.
+/// `render_s{0..3}.exr`, `render_{s0,s1,s2,s3,dop,aop}.png`, `polarizer_{deg}.png` and
+/// `render_object.exr` (per pixel the index of the object seen plus one in `R, G, B`, 0
+/// for the environment: the surface mask) of `image` in `out`; returns the files written.
 fn write_pictures(image: &StokesImage, polarizers: &[f64], out: &Path) -> Result<Vec<PathBuf>> {
     let mut written = write_stokes_pngs(
         &image.channels,
@@ -221,24 +222,39 @@ fn write_pictures(image: &StokesImage, polarizers: &[f64], out: &Path) -> Result
         image.height,
         out.join("render_s%d.exr"),
     )?);
+    let path = out.join("render_object.exr");
+    let id: Vec<f32> = image
+        .object
+        .iter()
+        .map(|o| o.map_or(0.0, |k| (k + 1) as f32))
+        .collect();
+    crate::io::exr::write_rgb_exr(
+        &path,
+        image.width,
+        image.height,
+        [id.clone(), id.clone(), id],
+    )?;
+    written.push(path);
     Ok(written)
 }
 
 /// The scene rendered by the reference renderer instead of PPRT
 /// ([`crate::pprt::Reference`], [`Fidelity::Exact`]: the source environment, the
-/// materials' models, ray-cast visibility) with `samples` directions per pixel, into
-/// `out` as [`render_job`] writes its pictures, with `reference.json` (samples, seconds,
-/// the pixels that break PSH (70)). Returns the report and the image.
+/// materials' models, ray-cast visibility) with `samples` directions at each of
+/// `pixel_grid x pixel_grid` positions per pixel ([`Reference::render_antialiased`]; 1:
+/// the pixel's centre), into `out` as [`render_job`] writes its pictures, with
+/// `reference.json` (samples, seconds, the pixels that break PSH (70)). Returns the report
+/// and the image.
 pub fn reference_job(
     scene: &Scene,
     samples: usize,
+    pixel_grid: usize,
     polarizers: &[f64],
     out: &Path,
 ) -> Result<(ReferenceReport, StokesImage)> {
     let cam = scene.camera();
     prepare_output(scene, out)?;
     let t0 = Instant::now();
-    let hits = primary_hits(scene);
     let image = Reference::new(
         scene,
         ReferenceSettings {
@@ -247,11 +263,12 @@ pub fn reference_job(
             seed: 1,
         },
     )?
-    .render(&hits)?;
+    .render_antialiased(pixel_grid)?;
     let seconds = t0.elapsed().as_secs_f64();
     let report = crate::io::all_or_nothing(&[], || {
         let report = ReferenceReport {
             samples_per_pixel: samples,
+            pixel_grid,
             image: [cam.width, cam.height],
             seconds,
             unphysical_pixels: image.unphysical(),
@@ -266,7 +283,10 @@ pub fn reference_job(
 /// The report of a [`reference_job`] (`reference.json`).
 #[derive(Clone, Debug, Serialize)]
 pub struct ReferenceReport {
+    /// Directions per pixel position.
     pub samples_per_pixel: usize,
+    /// Positions per pixel side (`pixel_grid^2` positions, box-filtered).
+    pub pixel_grid: usize,
     /// Width and height in pixels.
     pub image: [usize; 2],
     pub seconds: f64,

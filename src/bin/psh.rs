@@ -124,6 +124,32 @@ enum Command {
     /// reference renderer at a ladder of samples, against a high-sample ground truth;
     /// writes bench-error.json, .csv, .png and fig19.png (PSH Fig. 19) into a directory.
     BenchError(BenchErrorArgs),
+    /// The scene as a Mitsuba 3 scene (scene.xml, PLY meshes, the environment as a lat-long
+    /// EXR, docs/mitsuba.md) into a directory; prints the files and the ways Mitsuba's
+    /// scene differs from psh's (JSON).
+    ExportMitsuba(ExportMitsubaArgs),
+}
+
+#[derive(Args)]
+struct ExportMitsubaArgs {
+    /// A scene file (TOML); the built-in scene without it.
+    #[arg(long)]
+    scene: Option<PathBuf>,
+    /// Output directory (created if missing).
+    #[arg(long, default_value = "psh-mitsuba")]
+    out: PathBuf,
+    /// Image size WxH of the built-in scene.
+    #[arg(long, default_value = "480x360", value_parser = parse_size)]
+    size: ImageSize,
+    /// How the analytic sky carries its sun (lobe or directional). Default: the scene's.
+    #[arg(long, value_parser = parse_sun)]
+    sun: Option<psh::pprt::Sun>,
+    /// Mitsuba's samples per pixel.
+    #[arg(long, default_value_t = 256)]
+    spp: usize,
+    /// Rows of the environment's lat-long map (columns: twice as many).
+    #[arg(long, default_value_t = psh::io::ENVMAP_ROWS)]
+    env_rows: usize,
 }
 
 #[derive(Args)]
@@ -230,6 +256,10 @@ struct RenderArgs {
     /// directions per pixel; the same pictures, and reference.json.
     #[arg(long, conflicts_with_all = ["ablation", "valid_range"], value_parser = parse_spp)]
     reference: Option<usize>,
+    /// With --reference: each pixel the mean over G x G positions spread over its area (a
+    /// box filter, as Mitsuba 3's), each with the --reference directions (G^2 times the work).
+    #[arg(long, requires = "reference", default_value_t = 1)]
+    pixel_grid: usize,
 }
 
 impl Default for RenderArgs {
@@ -255,6 +285,7 @@ impl Default for RenderArgs {
             sun: None,
             json: false,
             reference: None,
+            pixel_grid: 1,
         }
     }
 }
@@ -745,6 +776,7 @@ fn main() -> ExitCode {
         Command::LightsDemo(a) => return lights_demo(&a),
         Command::IsdReport(a) => return isd_report(&a),
         Command::BenchError(a) => bench_error(&a),
+        Command::ExportMitsuba(a) => export_mitsuba(&a),
         Command::PolygonLightsDemo(a) => return polygon_lights_demo(&a),
     };
     match result {
@@ -1052,8 +1084,13 @@ fn render(a: &RenderArgs) -> psh::Result<(serde_json::Value, String)> {
         a.out.display()
     );
     if let Some(samples) = a.reference {
-        let (report, _) =
-            psh::apps::render_job::reference_job(&scene, samples, polarizers, &a.out)?;
+        let (report, _) = psh::apps::render_job::reference_job(
+            &scene,
+            samples,
+            a.pixel_grid,
+            polarizers,
+            &a.out,
+        )?;
         return Ok((to_json(&report)?, name));
     }
     if a.ablation {
@@ -1253,6 +1290,24 @@ fn parse_spp(x: &str) -> psh::Result<usize> {
             value: x.to_string(),
             reason: "a positive number of samples (--spp: comma-separated)".into(),
         })
+}
+
+fn export_mitsuba(a: &ExportMitsubaArgs) -> psh::Result<serde_json::Value> {
+    let overrides = psh::apps::render_job::SceneOverrides {
+        sun: a.sun,
+        ..Default::default()
+    };
+    let (scene, _, name) = psh::apps::render_job::job_scene(
+        a.scene.as_deref(),
+        (a.size.width, a.size.height),
+        &overrides,
+    )?;
+    let export = psh::io::export_mitsuba(&scene, &a.out, a.spp, a.env_rows)?;
+    Ok(json!({
+        "scene": name,
+        "files": export.files,
+        "differences": export.differences,
+    }))
 }
 
 fn bench_error(a: &BenchErrorArgs) -> psh::Result<serde_json::Value> {

@@ -251,23 +251,56 @@ fn write_components(
                 }
             })
             .collect::<Result<_>>()?;
-        let layer = Layer::new(
-            Vec2(w, h),
-            LayerAttributes::named(format!("s{p}").as_str()),
-            Encoding::FAST_LOSSLESS,
-            AnyChannels::sort(list),
-        );
-        super::output::write_file(path, |out| {
-            Image::from_layer(layer)
-                .write()
-                .to_buffered(out)
-                .map_err(|e| match e {
-                    ::exr::error::Error::Io(io) => io_error(path, io),
-                    other => malformed(path, other.to_string()),
-                })
-        })?;
+        write_layer(path, w, h, &format!("s{p}"), list)?;
     }
     Ok(())
+}
+
+/// Writes one EXR file of one layer named `layer` with the channels `list`, `w x h`.
+fn write_layer(
+    path: &Path,
+    w: usize,
+    h: usize,
+    layer: &str,
+    list: SmallVec<[AnyChannel<FlatSamples>; 4]>,
+) -> Result<()> {
+    let layer = Layer::new(
+        Vec2(w, h),
+        LayerAttributes::named(layer),
+        Encoding::FAST_LOSSLESS,
+        AnyChannels::sort(list),
+    );
+    super::output::write_file(path, |out| {
+        Image::from_layer(layer)
+            .write()
+            .to_buffered(out)
+            .map_err(|e| match e {
+                ::exr::error::Error::Io(io) => io_error(path, io),
+                other => malformed(path, other.to_string()),
+            })
+    })
+}
+
+/// Writes a `w x h` RGB image (row-major, top row first, 32-bit float; an unpolarized
+/// picture such as Mitsuba 3's `envmap` reads). Errors: a channel of another length, a
+/// non-finite value.
+pub(crate) fn write_rgb_exr(path: &Path, w: usize, h: usize, rgb: [Vec<f32>; 3]) -> Result<()> {
+    let list = ["R", "G", "B"]
+        .into_iter()
+        .zip(rgb)
+        .map(|(name, values)| {
+            crate::error::check_len("EXR channel", w * h, values.len())?;
+            match values.iter().position(|x| !x.is_finite()) {
+                Some(t) => Err(super::output::not_finite(
+                    path,
+                    format!("texel {t} of channel {name}"),
+                    f64::from(values[t]),
+                )),
+                None => Ok(AnyChannel::new(name, FlatSamples::F32(values))),
+            }
+        })
+        .collect::<Result<_>>()?;
+    write_layer(path, w, h, "rgb", list)
 }
 
 #[cfg(test)]

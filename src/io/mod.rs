@@ -16,6 +16,8 @@
 
 pub(crate) mod exr;
 pub(crate) mod kernel_csv;
+#[cfg(feature = "render")]
+pub(crate) mod mitsuba;
 pub(crate) mod npz;
 #[cfg(feature = "render")]
 pub(crate) mod obj;
@@ -27,6 +29,8 @@ pub(crate) mod texels;
 
 pub use exr::{read_stokes_map, write_stokes_image, write_stokes_map};
 pub use kernel_csv::read_kernel_csv;
+#[cfg(feature = "render")]
+pub use mitsuba::{export_mitsuba, MitsubaExport, ENVMAP_ROWS};
 pub use npz::{read_isotropic_npz, read_psh_npz, write_isotropic_npz, write_npy, write_psh_npz};
 #[cfg(feature = "render")]
 pub use obj::read_obj;

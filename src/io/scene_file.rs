@@ -378,20 +378,15 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
                 .map_err(|e| field("environment.radiance", e))?,
         ),
     };
-    // Unpolarized: the intensity alone, for the reference too.
-    let source = if spec.settings.unpolarized_environment {
-        let v = match source {
-            EnvironmentSource::Sky(sky) => sky
-                .project(source_lmax)
-                .map_err(|e| field("environment", e))?,
-            EnvironmentSource::Coefficients(v) => v,
-        };
-        EnvironmentSource::Coefficients(
+    // Unpolarized: the intensity alone, for the reference too (the sky stays analytic,
+    // its sun as it was).
+    let source = match source {
+        _ if !spec.settings.unpolarized_environment => source,
+        EnvironmentSource::Sky(sky) => EnvironmentSource::Sky(sky.unpolarized()),
+        EnvironmentSource::Coefficients(v) => EnvironmentSource::Coefficients(
             v.with_codomain(Codomain::Intensity)
                 .with_codomain(Codomain::Full),
-        )
-    } else {
-        source
+        ),
     };
     let environment = match &source {
         EnvironmentSource::Sky(sky) => sky.project(lmax),

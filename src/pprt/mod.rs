@@ -34,7 +34,7 @@ pub use builtin::{builtin_scene, builtin_unpolarized_scene};
 pub use light::DirectionalLight;
 pub use mesh::Mesh;
 pub use plan::{tangent_plane_visibility, MaterialPlan, Plan, Reason, StokesEvidence};
-pub use reference::{Fidelity, Reference, ReferenceSettings, Workspace};
+pub use reference::{Fidelity, Reference, ReferenceSettings, Workspace, MAX_PIXEL_GRID};
 pub use reflected::{high_order_kernel, reflected_pbrdf, reflected_radiance};
 pub use render::{
     direct_light, primary_hits, render_frame, vertex_stokes, StokesImage, UnphysicalPixels,

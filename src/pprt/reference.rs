@@ -231,43 +231,107 @@ impl<'a> Reference<'a> {
     pub fn render(&self, hits: &[Option<Hit>]) -> Result<StokesImage> {
         let cam = self.scene.camera();
         check_len("primary hits", cam.width * cam.height, hits.len())?;
-        let field = PerspectiveFrameField::new(cam.frame);
-        let eye = Vector3::from(cam.position);
-        let pixels: Vec<[[f64; 4]; 3]> = hits
-            .par_iter()
-            .enumerate()
+        let pixels = self.per_pixel(|ws, k| {
+            let d = cam.pixel_direction(k % cam.width, k / cam.width);
+            self.through(ws, hits[k].as_ref(), d, k as u64)
+        })?;
+        Ok(StokesImage::from_pixels(cam, &pixels, hits))
+    }
+
+    /// The image with each pixel the mean over `grid x grid` positions spread evenly over
+    /// its area (the centres of a `grid x grid` split), [`Self::render`]'s estimate at each:
+    /// a box-filtered pixel, as Mitsuba 3's `box` filter (its `samples` directions per
+    /// position, so `grid^2` times the work). The object mask is that of the pixels'
+    /// centres. Error: `grid` 0 or above [`MAX_PIXEL_GRID`].
+    pub fn render_antialiased(&self, grid: usize) -> Result<StokesImage> {
+        if !(1..=MAX_PIXEL_GRID).contains(&grid) {
+            return Err(Error::InvalidArgument {
+                name: "pixel grid",
+                value: grid.to_string(),
+                reason: format!("positions per pixel side in 1..={MAX_PIXEL_GRID}"),
+            });
+        }
+        let cam = self.scene.camera();
+        let positions = grid * grid;
+        let pixels = self.per_pixel(|ws, k| {
+            let (i, j) = ((k % cam.width) as f64, (k / cam.width) as f64);
+            let mut sum = [[0.0; 4]; 3];
+            for q in 0..positions {
+                let x = i + ((q % grid) as f64 + 0.5) / grid as f64;
+                let y = j + ((q / grid) as f64 + 0.5) / grid as f64;
+                let d = cam.direction_at(x, y);
+                let hit = self.scene.intersect(cam.position, d, 0.0);
+                let v = self.through(ws, hit.as_ref(), d, (k * positions + q) as u64)?;
+                for (a, v) in sum.iter_mut().zip(v) {
+                    a.iter_mut()
+                        .zip(v)
+                        .for_each(|(a, v)| *a += v / positions as f64);
+                }
+            }
+            Ok(sum)
+        })?;
+        Ok(StokesImage::from_pixels(
+            cam,
+            &pixels,
+            &super::render::primary_hits(self.scene),
+        ))
+    }
+
+    /// `pixel(workspace, k)` for every pixel `k` of the camera, in parallel.
+    fn per_pixel(
+        &self,
+        pixel: impl Fn(&mut Workspace, usize) -> Result<[[f64; 4]; 3]> + Sync,
+    ) -> Result<Vec<[[f64; 4]; 3]>> {
+        let cam = self.scene.camera();
+        (0..cam.width * cam.height)
+            .into_par_iter()
             .map_init(
                 || self.workspace(),
-                |ws, (k, hit)| {
+                |ws, k| {
                     let ws = ws.as_mut().map_err(|e| Error::InvalidArgument {
                         name: "reference evaluators",
                         value: e.to_string(),
                         reason: "band limits the SH tables accept".into(),
                     })?;
-                    match hit {
-                        Some(h) => {
-                            let (p, n) = self.scene.shading_point(h);
-                            let v = (eye - Vector3::from(p)).normalize();
-                            let out = camera_travel_frame(&field, [v.x, v.y, v.z])?;
-                            let material = self.scene.objects()[h.object].material;
-                            self.outgoing(ws, material, p, n, &out, k as u64)
-                        }
-                        None => {
-                            let d = cam.pixel_direction(k % cam.width, k / cam.width);
-                            let s = self.incident(ws, d)?;
-                            let mut x = [[0.0; 4]; 3];
-                            for (x, s) in x.iter_mut().zip(&s) {
-                                *x = seen_through(&field, d, s)?;
-                            }
-                            Ok(x)
-                        }
-                    }
+                    pixel(ws, k)
                 },
             )
-            .collect::<Result<_>>()?;
-        Ok(StokesImage::from_pixels(cam, &pixels, hits))
+            .collect()
+    }
+
+    /// The light reaching the camera along the ray of unit direction `d` whose first hit is
+    /// `hit`, in the camera's frames; `stream` decorrelates the shading point's samples.
+    fn through(
+        &self,
+        ws: &mut Workspace,
+        hit: Option<&Hit>,
+        d: [f64; 3],
+        stream: u64,
+    ) -> Result<[[f64; 4]; 3]> {
+        let cam = self.scene.camera();
+        let field = PerspectiveFrameField::new(cam.frame);
+        match hit {
+            Some(h) => {
+                let (p, n) = self.scene.shading_point(h);
+                let v = (Vector3::from(cam.position) - Vector3::from(p)).normalize();
+                let out = camera_travel_frame(&field, [v.x, v.y, v.z])?;
+                let material = self.scene.objects()[h.object].material;
+                self.outgoing(ws, material, p, n, &out, stream)
+            }
+            None => {
+                let s = self.incident(ws, d)?;
+                let mut x = [[0.0; 4]; 3];
+                for (x, s) in x.iter_mut().zip(&s) {
+                    *x = seen_through(&field, d, s)?;
+                }
+                Ok(x)
+            }
+        }
     }
 }
+
+/// Largest [`Reference::render_antialiased`] grid (1024 positions per pixel).
+pub const MAX_PIXEL_GRID: usize = 32;
 
 fn vertex_error(object: usize, vertex: usize) -> Error {
     Error::InvalidArgument {

@@ -20,13 +20,13 @@ use nalgebra::Vector3;
 use rayon::prelude::*;
 
 /// Stokes components per channel `[c][pixel]` of a `width x height` image (row-major,
-/// top row first) and the mask of pixels that see a surface.
+/// top row first) and the object each pixel sees (`None`: the environment).
 #[derive(Clone, Debug, PartialEq)]
 pub struct StokesImage {
     pub width: usize,
     pub height: usize,
     pub channels: Vec<Vec<[f64; 4]>>,
-    pub surface: Vec<bool>,
+    pub object: Vec<Option<usize>>,
 }
 
 impl StokesImage {
@@ -38,7 +38,7 @@ impl StokesImage {
             channels: (0..3)
                 .map(|c| pixels.iter().map(|p| p[c]).collect())
                 .collect(),
-            surface: hits.iter().map(Option::is_some).collect(),
+            object: hits.iter().map(|h| h.map(|h| h.object)).collect(),
         }
     }
 
@@ -85,9 +85,9 @@ impl StokesImage {
     pub fn unphysical(&self) -> UnphysicalPixels {
         let mut n = UnphysicalPixels::default();
         for (c, channel) in self.channels.iter().enumerate().take(3) {
-            for (s, &surface) in channel.iter().zip(&self.surface) {
+            for (s, object) in channel.iter().zip(&self.object) {
                 let p = s[1].hypot(s[2]).hypot(s[3]);
-                let (negative, above) = if surface {
+                let (negative, above) = if object.is_some() {
                     (&mut n.surface_s0_negative, &mut n.surface_dop_above_one)
                 } else {
                     (&mut n.sky_s0_negative, &mut n.sky_dop_above_one)

@@ -128,10 +128,16 @@ impl Camera {
     /// The unit direction into the scene through the centre of pixel `(i, j)` (column,
     /// row from the top).
     pub fn pixel_direction(&self, i: usize, j: usize) -> [f64; 3] {
+        self.direction_at(i as f64 + 0.5, j as f64 + 0.5)
+    }
+
+    /// The unit direction into the scene through the image point `(x, y)` in pixels from
+    /// the top-left corner (`(i + 1/2, j + 1/2)` is pixel `(i, j)`'s centre).
+    pub fn direction_at(&self, x: f64, y: f64) -> [f64; 3] {
         let t = (0.5 * self.fov_y).tan();
         let aspect = self.width as f64 / self.height as f64;
-        let x = (2.0 * (i as f64 + 0.5) / self.width as f64 - 1.0) * t * aspect;
-        let y = (2.0 * (j as f64 + 0.5) / self.height as f64 - 1.0) * t;
+        let x = (2.0 * x / self.width as f64 - 1.0) * t * aspect;
+        let y = (2.0 * y / self.height as f64 - 1.0) * t;
         let d = (self.frame.x() * x + self.frame.y() * y + self.frame.z()).normalize();
         [d.x, d.y, d.z]
     }

@@ -65,6 +65,9 @@ pub struct RayleighSky {
     sun_sharpness: f64,
     ground: [f64; 3],
     sun_model: Sun,
+    /// `false`: the intensity alone (`s1 = s2 = 0`), as renderers with unpolarized
+    /// environments (Mitsuba 3) see it.
+    polarized: bool,
 }
 
 impl RayleighSky {
@@ -89,7 +92,19 @@ impl RayleighSky {
             sun_sharpness: 60.0,
             ground: [0.12, 0.11, 0.1],
             sun_model: Sun::Lobe,
+            polarized: true,
         })
+    }
+
+    /// The same sky without its polarization: the intensity `s0` alone, the sun as it was.
+    pub fn unpolarized(mut self) -> Self {
+        self.polarized = false;
+        self
+    }
+
+    /// Whether the sky's light is polarized ([`Self::unpolarized`]).
+    pub fn is_polarized(&self) -> bool {
+        self.polarized
     }
 
     /// The same sky with its sun carried as `sun` says.
@@ -130,7 +145,7 @@ impl RayleighSky {
         // The field direction e = w x s; its angle chi from the frame's x.
         let e = wv.cross(&self.sun);
         let chi = e.dot(&frame.y()).atan2(e.dot(&frame.x()));
-        let (s1, s2) = if e.norm() > 1e-12 {
+        let (s1, s2) = if self.polarized && e.norm() > 1e-12 {
             (
                 intensity * dop * (2.0 * chi).cos(),
                 intensity * dop * (2.0 * chi).sin(),

@@ -1,0 +1,175 @@
+//! `psh export-mitsuba` (`io::export_mitsuba`): the files and the convention map of
+//! `docs/mitsuba.md`. Mitsuba itself reads and renders the exports in the validation suite
+//! (`validation/test_mitsuba_render.py`); these tests pin the bookkeeping without it.
+
+use psh::io::{export_mitsuba, load_scene};
+use psh::pprt::{primary_hits, Fidelity, Reference, ReferenceSettings};
+use std::path::PathBuf;
+
+fn temp(name: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("psh-mitsuba-{name}-{}", std::process::id()))
+}
+
+/// The numbers of `<matrix value="..."/>` after `after` in `xml`.
+fn matrix_after(xml: &str, after: &str) -> Vec<f64> {
+    let rest = &xml[xml.find(after).unwrap()..];
+    let start = rest.find("<matrix value=\"").unwrap() + "<matrix value=\"".len();
+    let end = start + rest[start..].find('"').unwrap();
+    rest[start..end]
+        .split_whitespace()
+        .map(|x| x.parse().unwrap())
+        .collect()
+}
+
+#[test]
+fn the_sky_scene_exports_with_psh_camera_and_sky() {
+    let (scene, _) = load_scene("scenes/mitsuba_sky.toml", 4).unwrap();
+    let dir = temp("sky");
+    let export = export_mitsuba(&scene, &dir, 16, 8).unwrap();
+    assert!(export.differences.is_empty(), "{:?}", export.differences);
+    let xml = std::fs::read_to_string(dir.join("scene.xml")).unwrap();
+    // Camera: to_world columns [-right, -down, forward], then the position (row-major).
+    let m = matrix_after(&xml, "<sensor");
+    let cam = scene.camera();
+    let (x, y, z) = (cam.frame.x(), cam.frame.y(), cam.frame.z());
+    for r in 0..3 {
+        let row = [-x[r], -y[r], z[r], cam.position[r]];
+        for c in 0..4 {
+            assert!((m[4 * r + c] - row[c]).abs() < 1e-15, "{m:?}");
+        }
+    }
+    // The envmap's to_world takes Mitsuba's (v_x, v_y, v_z) to (-v_z, v_x, v_y).
+    let e = matrix_after(&xml, "type=\"envmap\"");
+    assert_eq!(
+        e[..12],
+        [0.0, 0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0]
+    );
+    // Three spheres and a plane: the BSDFs of docs/mitsuba.md.
+    assert!(xml.contains("id=\"material_0\" type=\"pplastic\""));
+    assert!(xml.contains("id=\"material_1\" type=\"blendbsdf\""));
+    assert!(xml.contains("<spectrum name=\"reflectance\" value=\"0.8\"/>"));
+    assert!(xml.contains("id=\"material_2\" type=\"diffuse\""));
+    assert!(xml.contains("type=\"directional\""));
+    // A PLY per object: header counts and the binary body's length.
+    for (k, o) in scene.objects().iter().enumerate() {
+        let bytes = std::fs::read(dir.join(format!("mesh_{k}.ply"))).unwrap();
+        let end = bytes
+            .windows(11)
+            .position(|w| w == b"end_header\n")
+            .unwrap()
+            + 11;
+        let header = std::str::from_utf8(&bytes[..end]).unwrap();
+        let (nv, nt) = (o.mesh.positions().len(), o.mesh.triangles().len());
+        assert!(
+            header.contains(&format!("element vertex {nv}\n")),
+            "{header}"
+        );
+        assert!(header.contains(&format!("element face {nt}\n")), "{header}");
+        assert_eq!(bytes.len() - end, 24 * nv + 13 * nt);
+    }
+    // The environment: 8 x 16 texels, row r at theta = pi r / 7, column k at
+    // phi = 2 pi (k + 1/2) / 16, the sky's s0 there.
+    let image = exr::prelude::read_first_rgba_layer_from_file(
+        dir.join("environment.exr"),
+        |size, _| vec![[0f32; 3]; size.0 * size.1],
+        |px: &mut Vec<[f32; 3]>, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+            px[pos.1 * 16 + pos.0] = [r, g, b]
+        },
+    )
+    .unwrap();
+    let texels = &image.layer_data.channel_data.pixels;
+    let psh::pprt::EnvironmentSource::Sky(sky) = scene.source() else {
+        panic!("the sky scene's source is the sky")
+    };
+    for (r, k) in [(0, 0), (2, 5), (3, 15), (7, 9)] {
+        let theta = std::f64::consts::PI * r as f64 / 7.0;
+        let phi = 2.0 * std::f64::consts::PI * (k as f64 + 0.5) / 16.0;
+        let w = psh::geometry::direction(theta, phi);
+        for (c, got) in texels[r * 16 + k].iter().enumerate() {
+            let expect = sky.stokes(c, w).unwrap()[0] as f32;
+            assert_eq!(*got, expect, "texel ({r}, {k}) channel {c}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_constant_environment_is_a_constant_emitter_and_differences_are_listed() {
+    let (scene, _) = load_scene("scenes/mitsuba_sphere.toml", 4).unwrap();
+    let dir = temp("sphere");
+    let export = export_mitsuba(&scene, &dir, 16, 8).unwrap();
+    assert!(export.differences.is_empty(), "{:?}", export.differences);
+    let xml = std::fs::read_to_string(dir.join("scene.xml")).unwrap();
+    assert!(xml.contains("<emitter type=\"constant\">"));
+    assert!(
+        xml.contains("<rgb name=\"radiance\" value=\"1, 1, 1\"/>"),
+        "{xml}"
+    );
+    assert!(xml.contains("<spectrum name=\"eta\" value=\"0.43\"/>"));
+    assert!(!dir.join("environment.exr").exists());
+    // The built-in scene: a polarized sky, height-correlated masking: listed.
+    let builtin = psh::pprt::builtin_scene(4, 8, 6).unwrap();
+    let export = export_mitsuba(&builtin, &dir, 1, 4).unwrap();
+    let all = export.differences.join("\n");
+    assert!(all.contains("unpolarized"), "{all}");
+    assert!(all.contains("height-correlated"), "{all}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn what_mitsuba_cannot_say_is_an_error_and_nothing_is_written() {
+    let (scene, _) = load_scene("scenes/mitsuba_sphere.toml", 4).unwrap();
+    let dir = temp("bad");
+    for (spp, rows) in [(0, 8), (16, 1)] {
+        let e = export_mitsuba(&scene, &dir, spp, rows)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(&spp.to_string()) || e.contains(&rows.to_string()),
+            "{e}"
+        );
+    }
+    let m = psh::pprt::SceneMaterial::Matrices(Box::new(scene.materials()[0].matrices(2).unwrap()));
+    let objects = scene.objects().to_vec();
+    let measured = psh::pprt::Scene::new(
+        objects,
+        vec![m],
+        scene.environment().clone(),
+        scene.camera().clone(),
+    )
+    .unwrap();
+    let e = export_mitsuba(&measured, &dir, 16, 8)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("measured coefficient matrices"), "{e}");
+    assert!(!dir.join("scene.xml").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A 1 x 1 pixel grid is the pixel's centre: the same image as through the primary hits.
+#[test]
+fn a_one_position_pixel_grid_is_the_centre_render() {
+    let (scene, _) = load_scene("scenes/mitsuba_sky.toml", 4).unwrap();
+    let mut scene = scene;
+    let cam = scene.camera().clone();
+    scene.set_camera(psh::pprt::Camera {
+        width: 16,
+        height: 12,
+        ..cam
+    });
+    let settings = ReferenceSettings {
+        samples: 8,
+        fidelity: Fidelity::Exact,
+        seed: 3,
+    };
+    let r = Reference::new(&scene, settings).unwrap();
+    let centre = r.render(&primary_hits(&scene)).unwrap();
+    assert_eq!(r.render_antialiased(1).unwrap(), centre);
+    let four = r.render_antialiased(2).unwrap();
+    assert_eq!(four.object, centre.object);
+    assert_ne!(four.channels, centre.channels);
+    for g in [0, psh::pprt::MAX_PIXEL_GRID + 1] {
+        let e = r.render_antialiased(g).unwrap_err().to_string();
+        assert!(e.contains(&g.to_string()), "{e}");
+    }
+}
