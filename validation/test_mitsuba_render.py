@@ -167,8 +167,8 @@ def test_fig19_against_mitsuba(psh, record):
     record("sphere: PPRT low-only vs Mitsuba 3, total RMSE at l = 10 over l = 2", "mitsuba",
            t[("low_only", 10)] / t[("low_only", 2)], 0.5, measure="ratio")
 
-    # The sky scene's PPRT rows are measurements, not checks: PPRT's error there does not
-    # fall with l (docs/mitsuba.md, issue 24 item 5).
+    # The sky scene's PPRT rows are measurements, not checks: the dielectric sphere's
+    # error does not fall with l (docs/mitsuba.md, issue 24 item 5).
     sky = compare_scene(psh, record, "sky")
 
     lines = [
@@ -214,12 +214,13 @@ def test_fig19_against_mitsuba(psh, record):
         "Under a constant environment only the degree 0 of the light is non-zero, so the "
         "high orders by convolution (degrees above l_low) add nothing: PPRT's error is the "
         "band limit of the outgoing radiance in the view direction, set by l_low, and it "
-        "falls with l_low (the `low_only` rows). A truncation at odd l_low is worse than at "
-        "the even degree below it: the outgoing field vanishes below the shading plane, a "
-        "step at its equator whose expansion beyond degree 0 is odd, and an odd partial sum "
-        "overshoots it. The `full` rows stay near the l_low = 4 figure (the materials are "
-        "projected once at max(l_low, l_high), and the GGX lobe's degrees up to 4 alias "
-        "differently on each grid).",
+        "falls with l_low (the `low_only` rows). The renderer projects its pBRDFs with the "
+        "output below the shading plane mirrored (`proofs/mirrored-output.md`): without it "
+        "the outgoing field steps to zero at the horizon and its truncation rings (s0 RMSE "
+        "0.120, 0.199, 0.056, 0.035, 0.032, 0.024 at l_low 2, 3, 4, 6, 8, 10 before the "
+        "change, odd l worse than even). The `full` rows stay near the l_low = 4 figure (the "
+        "materials are projected once at max(l_low, l_high), and the GGX lobe's degrees up "
+        "to 4 alias differently on each grid).",
         "",
         f"## {SCENES['sky'].name}: dielectric and plastic spheres on a plane, sky and "
         "directional sun, rolled camera",
@@ -228,15 +229,13 @@ def test_fig19_against_mitsuba(psh, record):
         "",
         "Objects: 0 the dielectric sphere, 1 the plastic sphere, 2 the plane. The reference "
         "agrees with Mitsuba within its noise on every object, the background (the exported "
-        "envmap) and the shadows. PPRT's error does not fall with l here (an open finding "
-        "of issue 24, item 5; measurements, not checks). The sun's direct light is exact in "
-        "PPRT too, so the differences are the sky's transfer: the dielectric sphere (alpha "
-        "0.15) is far darker at l_low = 4 (its lobe needs higher degrees; the high orders by "
-        "convolution, unshadowed and truncated at l_high, recover part of it and ring to "
-        "negative s0 on the lobe: black blotches); the diffuse plane is 3% too bright at "
-        "l_low = 4 whatever l_high, within 1.5% from l_low = 6, while its s0 RMSE stays near "
-        "0.018 (not yet explained: the per-vertex transfer's interpolation is the next "
-        "suspect).",
+        "envmap) and the shadows. The sun's direct light is exact in PPRT too, so PPRT's "
+        "differences are the sky's transfer and its pixel-centre sampling (the reference is "
+        "box-filtered: PPRT's rows include the sun's shadow edges on the plane). The "
+        "dielectric sphere (alpha 0.15) is far darker at l_low = 4 (its lobe needs higher "
+        "degrees; the high orders by convolution, unshadowed and truncated at l_high, "
+        "recover part of it): an open finding of issue 24 (item 5). The plane's mean is "
+        "within 0.1% since the mirrored outputs (3.5% too bright before).",
         "",
         "Not yet compared here (issue 24): buddha on the plane under sponza (a measured "
         "environment as an EXR map), a conductor of an index differing per channel (an RGB "

@@ -9,6 +9,7 @@
 //! | [`DirectionalLight`] | a near-delta source reflected exactly, with a shadow ray | PSH (39) |
 //! | [`reflected_pbrdf`], [`reflected_radiance`] | high orders by convolution at the reflected direction | PSH Sec. 7 |
 //! | [`Scene`], [`SceneMaterial`], [`Camera`] | materials, camera, BVH ray queries | |
+//! | [`MirroredBelow`] | pBRDF outputs below the shading plane mirrored: no step at the horizon | `proofs/mirrored-output.md` |
 //! | [`TransferSettings`], [`Planning`] | what a precomputation is asked to do, how much the plan may drop | |
 //! | [`Plan`], [`Reason`] | what a scene needs: Stokes components, visibility, storage, high orders | PSH (41), (52)-(56) |
 //! | [`precompute_planned`], [`VertexTransfer`] | visibility, PSH (54)-(56), (35)-(37), (41) per vertex | PSH Sec. 7 |
@@ -21,6 +22,7 @@ pub(crate) mod direct;
 pub(crate) mod light;
 pub(crate) mod lobe;
 pub(crate) mod mesh;
+pub(crate) mod mirrored;
 pub(crate) mod plan;
 pub(crate) mod reference;
 pub(crate) mod reflected;
@@ -33,6 +35,7 @@ pub(crate) mod transfer;
 pub use builtin::{builtin_scene, builtin_unpolarized_scene};
 pub use light::DirectionalLight;
 pub use mesh::Mesh;
+pub use mirrored::MirroredBelow;
 pub use plan::{tangent_plane_visibility, MaterialPlan, Plan, Reason, StokesEvidence};
 pub use reference::{Fidelity, Reference, ReferenceSettings, Workspace, MAX_PIXEL_GRID};
 pub use reflected::{high_order_kernel, reflected_pbrdf, reflected_radiance};

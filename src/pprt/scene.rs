@@ -3,6 +3,7 @@
 
 use super::light::DirectionalLight;
 use super::mesh::Mesh;
+use super::mirrored::MirroredBelow;
 use super::sky::{RayleighSky, Sun};
 use crate::error::{Error, Result};
 use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
@@ -47,10 +48,17 @@ impl SceneMaterial {
     }
 
     /// The PSH coefficient matrices (RGB) in the shading frame (normal `+z`), band limit
-    /// `lmax`, projected on the exact grid of `2 lmax + 2`.
+    /// `lmax`, projected on the exact grid of `2 lmax + 2`; analytic models with their
+    /// output below the shading plane mirrored ([`MirroredBelow`],
+    /// `proofs/mirrored-output.md`), measured matrices as given.
     pub fn matrices(&self, lmax: usize) -> Result<[PshMatrix; 3]> {
         let project = |field: &dyn MuellerField| {
-            project_operator(field, lmax, 2 * lmax + 2, SpinBlock22::ComplexPair)
+            project_operator(
+                &MirroredBelow(field),
+                lmax,
+                2 * lmax + 2,
+                SpinBlock22::ComplexPair,
+            )
         };
         match self {
             Self::Matrices(m) => Ok([
