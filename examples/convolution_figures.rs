@@ -17,7 +17,7 @@
 
 #[path = "common/sponza.rs"]
 mod sponza;
-use psh::apps::plot::{LinePlot, Series};
+use psh::apps::plot::{Axis, LinePlot, Series};
 use psh::io::write_map_pngs;
 use psh::map::{MapLayout, StokesMap};
 use psh::optics::PolarizedPlastic;
@@ -120,23 +120,27 @@ fn figure17(out: &Path) -> psh::Result<f64> {
     for n in 1..=lmax + 3 {
         let (_, residual) = project_to_convolution(&rotation_average(&m, n)?)?;
         println!("  | {n} | {residual:.3e} |");
-        points.push((n as f64, residual.max(1e-17).log10()));
+        points.push((n as f64, residual.max(1e-17)));
         if n == lmax + 1 {
             last = residual;
         }
     }
-    let mut plot = LinePlot::new((1.0, (lmax + 3) as f64), (-17.0, 0.0), (1.0, 1.0))?;
+    let mut plot = LinePlot::new(
+        "PSH Fig. 17: rotation average of a polarized plastic",
+        Axis::linear(
+            "Euler grid n (2n x n x 2n rotations)",
+            (1.0, (lmax + 3) as f64),
+        ),
+        Axis::log("residual from a convolution", (1e-17, 1.0)),
+    )?;
     plot.add(Series {
+        label: format!("plastic, l <= {lmax}"),
         color: [200, 40, 40],
         dashed: false,
         points,
     });
     let path = out.join("fig17_residual.png");
-    plot.write_png(&path, 480, 320)?;
-    println!(
-        "  plot: x = n from 1 to {}, y = log10(residual) from -17 to 0 -> {}",
-        lmax + 3,
-        path.display()
-    );
+    plot.write_png(&path, 720, 480)?;
+    println!("  plot: {}", path.display());
     Ok(last)
 }

@@ -144,3 +144,46 @@ fn scene_files_plan_as_documented() {
     let e = e.to_string();
     assert!(e.contains("clay") && e.contains("1.5"), "{e}");
 }
+
+/// Records the stages and the units reported.
+#[derive(Default)]
+struct Stages(std::sync::Mutex<Vec<(String, u64, u64)>>);
+
+impl psh::progress::Progress for Stages {
+    fn start(&self, what: &str, total: u64) {
+        self.0.lock().unwrap().push((what.into(), total, 0));
+    }
+    fn advance(&self, n: u64) {
+        self.0.lock().unwrap().last_mut().unwrap().2 += n;
+    }
+}
+
+/// A plan reports its materials' projection (most of its time), then the precomputation
+/// its vertices, every unit of both.
+#[test]
+fn planning_and_precomputation_report_progress() {
+    let scene = psh::pprt::builtin_scene(4, 8, 6).unwrap();
+    let stages = Stages::default();
+    let plan = Plan::with_progress(
+        &scene,
+        settings(3, 4, 8),
+        psh::pprt::Planning::Full,
+        &stages,
+    )
+    .unwrap();
+    precompute_planned(&scene, &plan, &stages).unwrap();
+    let vertices: usize = scene
+        .objects()
+        .iter()
+        .map(|o| o.mesh.positions().len())
+        .sum();
+    let got = stages.0.into_inner().unwrap();
+    let materials = scene.materials().len() as u64;
+    assert_eq!(
+        got,
+        vec![
+            ("materials".to_string(), materials, materials),
+            ("precompute".to_string(), vertices as u64, vertices as u64)
+        ]
+    );
+}

@@ -7,7 +7,7 @@
 //! RMSE per Stokes component is over the pixels that see a surface and the three
 //! channels, in the camera's frames; the total is the root of their sum of squares.
 
-use crate::apps::plot::{LinePlot, Series};
+use crate::apps::plot::{Axis, LinePlot, Series};
 use crate::error::{Error, Result};
 use crate::io::write_text;
 use crate::pprt::plan::Plan;
@@ -359,26 +359,39 @@ fn decades(xs: impl Iterator<Item = f64>) -> (f64, f64) {
 }
 
 fn plot_error_time(rows: &[Row], path: &Path) -> Result<()> {
-    let xr = decades(rows.iter().map(|r| r.frame_s));
-    let yr = decades(rows.iter().map(Row::total));
-    let mut plot = LinePlot::new(xr, yr, (1.0, 1.0))?;
-    for (method, setting, color) in [
-        ("pprt", "full", [200, 30, 30]),
-        ("pprt", "no_shadow", [240, 150, 20]),
-        ("pprt", "low_only", [130, 50, 170]),
-        ("reference", "exact", [30, 80, 200]),
+    let (x0, x1) = decades(rows.iter().map(|r| r.frame_s));
+    let (y0, y1) = decades(rows.iter().map(Row::total));
+    let mut plot = LinePlot::new(
+        "Run time against error (psh bench-error)",
+        Axis::log("frame time (s)", (10f64.powf(x0), 10f64.powf(x1))),
+        Axis::log(
+            "RMSE, all Stokes components",
+            (10f64.powf(y0), 10f64.powf(y1)),
+        ),
+    )?;
+    for (method, setting, label, color) in [
+        ("pprt", "full", "PPRT full (l = 2..)", [200, 30, 30]),
+        ("pprt", "no_shadow", "PPRT without shadows", [240, 150, 20]),
+        ("pprt", "low_only", "PPRT low orders only", [130, 50, 170]),
+        (
+            "reference",
+            "exact",
+            "reference (samples per pixel)",
+            [30, 80, 200],
+        ),
     ] {
         plot.add(Series {
+            label: label.into(),
             color,
             dashed: false,
             points: rows
                 .iter()
                 .filter(|r| r.method == method && r.setting == setting)
-                .map(|r| (r.frame_s.log10(), r.total().log10()))
+                .map(|r| (r.frame_s, r.total()))
                 .collect(),
         });
     }
-    plot.write_png(path, 640, 480)
+    plot.write_png(path, 800, 600)
 }
 
 fn plot_fig19(rows: &[Row], l_max: usize, path: &Path) -> Result<()> {
@@ -386,20 +399,25 @@ fn plot_fig19(rows: &[Row], l_max: usize, path: &Path) -> Result<()> {
         .iter()
         .filter(|r| r.method == "pprt" && r.setting == "full")
         .collect();
-    let yr = decades(full.iter().flat_map(|r| r.rmse));
-    let mut plot = LinePlot::new((2.0, l_max.max(3) as f64), yr, (1.0, 1.0))?;
+    let (y0, y1) = decades(full.iter().flat_map(|r| r.rmse));
+    let mut plot = LinePlot::new(
+        "PPRT full against the ground truth (PSH Fig. 19)",
+        Axis::linear("band limit l_max", (2.0, l_max.max(3) as f64)),
+        Axis::log("RMSE", (10f64.powf(y0), 10f64.powf(y1))),
+    )?;
     for (q, color) in [[0, 0, 0], [200, 30, 30], [30, 150, 30], [30, 80, 200]]
         .into_iter()
         .enumerate()
     {
         plot.add(Series {
+            label: format!("s{q}"),
             color,
             dashed: false,
             points: full
                 .iter()
-                .map(|r| (r.l_max.unwrap_or(0) as f64, r.rmse[q].log10()))
+                .map(|r| (r.l_max.unwrap_or(0) as f64, r.rmse[q]))
                 .collect(),
         });
     }
-    plot.write_png(path, 640, 480)
+    plot.write_png(path, 800, 600)
 }

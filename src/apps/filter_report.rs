@@ -16,7 +16,7 @@
 //! - `psi_error_<material>.png`: `psi~ - psi` per channel; x as above, y from -0.25 to
 //!   0.25, grid every 0.05, the darker line is 0.
 
-use crate::apps::plot::{LinePlot, Series};
+use crate::apps::plot::{Axis, LinePlot, Series};
 use crate::error::Result;
 use crate::io::io_error;
 use crate::io::write_text;
@@ -29,7 +29,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// Plot size in pixels.
-const PLOT_SIZE: (usize, usize) = (480, 300);
+const PLOT_SIZE: (usize, usize) = (720, 480);
 
 /// What `psh filter-report` wrote.
 #[derive(Clone, Debug)]
@@ -62,24 +62,40 @@ pub fn write_filter_report(dir: &Path) -> Result<FilterReport> {
     for m in Material::ALL {
         let of_m: Vec<&PsiCurve> = curves.iter().filter(|c| c.material == m).collect();
         let stem = m.name().to_ascii_lowercase();
-        let mut psi_plot = LinePlot::new((0.0, 90.0), (0.0, 1.0), (10.0, 0.1))?;
-        let mut err_plot = LinePlot::new((0.0, 90.0), (-0.25, 0.25), (10.0, 0.05))?;
+        let angle = || Axis::linear("angle of incidence (degrees)", (0.0, 90.0));
+        let mut psi_plot = LinePlot::new(
+            &format!(
+                "{}: psi, exact (solid) and PF's approximation (dashed)",
+                m.name()
+            ),
+            angle(),
+            Axis::linear("psi", (0.0, 1.0)),
+        )?;
+        let mut err_plot = LinePlot::new(
+            &format!("{}: error of PF's psi approximation", m.name()),
+            angle(),
+            Axis::linear("approximate - exact psi", (-0.25, 0.25)),
+        )?;
         for c in &of_m {
             let points = |f: &dyn Fn(usize) -> f64| -> Vec<(f64, f64)> {
                 (0..SAMPLES).map(|i| (sample_degrees(i), f(i))).collect()
             };
             let color = channel_color(c.channel);
+            let channel = ["R", "G", "B"][c.channel.index()];
             psi_plot.add(Series {
+                label: format!("{channel} exact"),
                 color,
                 dashed: false,
                 points: points(&|i| c.psi[i]),
             });
             psi_plot.add(Series {
+                label: format!("{channel} approximation"),
                 color,
                 dashed: true,
                 points: points(&|i| c.psi_approx[i]),
             });
             err_plot.add(Series {
+                label: channel.into(),
                 color,
                 dashed: false,
                 points: points(&|i| c.error(i)),

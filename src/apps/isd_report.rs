@@ -14,7 +14,7 @@
 //!   (RZH, shared Fibonacci directions, one kernel and signal) by ISD (6) and by
 //!   [`sh_rotate_dot`], on this machine, one thread.
 
-use crate::apps::plot::{LinePlot, Series};
+use crate::apps::plot::{Axis, LinePlot, Series};
 use crate::error::Result;
 use crate::geometry::rotation_from_rotvec;
 use crate::io::io_error;
@@ -40,7 +40,7 @@ pub const TIMING_LMAX: [usize; 3] = [8, 16, 31];
 const TIMING_ROTATIONS: usize = 1000;
 
 /// Plot size in pixels.
-const PLOT_SIZE: (usize, usize) = (480, 300);
+const PLOT_SIZE: (usize, usize) = (720, 480);
 
 /// One condition number of ISD Fig. 13.
 #[derive(Clone, Debug)]
@@ -162,7 +162,11 @@ pub fn write_isd_report(dir: &Path) -> Result<IsdReport> {
     }
     files.push(write_text(dir.join("condition.csv"), &csv)?);
     for pattern in [Pattern::Fibonacci, Pattern::Halton] {
-        let mut plot = LinePlot::new((0.0, 32.0), (0.0, 17.0), (4.0, 1.0))?;
+        let mut plot = LinePlot::new(
+            &format!("Condition number of M against L, {pattern:?} directions (ISD Fig. 13)"),
+            Axis::linear("band limit L", (0.0, 32.0)),
+            Axis::linear("log10 condition number (capped at 17)", (0.0, 17.0)),
+        )?;
         for profile in Profile::ALL {
             for sharing in [Sharing::PerBand, Sharing::Shared] {
                 let points = conditioning
@@ -173,6 +177,15 @@ pub fn write_isd_report(dir: &Path) -> Result<IsdReport> {
                     .map(|c| (c.lmax as f64, c.condition.log10().min(17.0)))
                     .collect();
                 plot.add(Series {
+                    label: format!(
+                        "{}, {}",
+                        profile.name(),
+                        if sharing == Sharing::Shared {
+                            "shared"
+                        } else {
+                            "per band"
+                        }
+                    ),
                     color: profile_color(profile),
                     dashed: sharing == Sharing::Shared,
                     points,

@@ -1,140 +1,215 @@
-//! Small line plots rasterized to PNG, without text: a white canvas, a light grey grid at
-//! the tick spacing, a black frame, a darker line at `y = 0` when it is in range, and
-//! lines (solid or dashed) in given colours. Axis ranges and tick spacings are stated by
-//! the caller's documentation (the pictures carry no labels).
+//! Line plots as PNG with the `plotters` crate: a title, labelled axes with ticks (linear
+//! or logarithmic), a grid, and a legend naming every line; text in DejaVu Sans (the
+//! `dejavu` crate, so no system font is needed).
 
 use crate::error::{Error, Result};
 use crate::io::png::write_png;
+use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
+use plotters::prelude::*;
 use std::path::Path;
 
-/// One line: its colour, style and points `(x, y)` in data units.
+/// One line: its legend label, colour, style and points `(x, y)` in data units (a
+/// non-finite point, or one outside a logarithmic axis, breaks the line).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Series {
+    pub label: String,
     pub color: [u8; 3],
     pub dashed: bool,
     pub points: Vec<(f64, f64)>,
 }
 
-/// A plot of [`Series`] over the box `x_range` times `y_range`.
+/// An axis: its label (with units), its range in data units and whether it is
+/// logarithmic.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Axis {
+    pub label: String,
+    pub range: (f64, f64),
+    pub log: bool,
+}
+
+impl Axis {
+    /// A linear axis over `range`.
+    pub fn linear(label: &str, range: (f64, f64)) -> Self {
+        Self {
+            label: label.into(),
+            range,
+            log: false,
+        }
+    }
+
+    /// A logarithmic axis over `range` (positive).
+    pub fn log(label: &str, range: (f64, f64)) -> Self {
+        Self {
+            label: label.into(),
+            range,
+            log: true,
+        }
+    }
+
+    /// Whether `v` can be drawn on this axis (finite; positive on a log axis).
+    fn admits(&self, v: f64) -> bool {
+        v.is_finite() && (!self.log || v > 0.0)
+    }
+}
+
+/// A titled plot of [`Series`] over two [`Axis`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct LinePlot {
-    x_range: (f64, f64),
-    y_range: (f64, f64),
-    ticks: (f64, f64),
+    title: String,
+    x: Axis,
+    y: Axis,
     series: Vec<Series>,
 }
 
-/// Margins of the plot box in pixels: left, right, top, bottom.
-const MARGIN: [usize; 4] = [24, 12, 12, 20];
-const GRID: [u8; 3] = [225, 225, 225];
-const AXIS: [u8; 3] = [0, 0, 0];
-const ZERO: [u8; 3] = [140, 140, 140];
-/// Dash and gap length in pixels.
-const DASH: f64 = 6.0;
+/// The font family every text of a plot uses, registered once from the `dejavu` crate.
+const FONT: &str = "sans-serif";
+
+fn register_font() -> Result<()> {
+    static REGISTERED: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    let ok = *REGISTERED.get_or_init(|| {
+        plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular()).is_ok()
+    });
+    ok.then_some(()).ok_or_else(|| Error::InvalidArgument {
+        name: "plot font",
+        value: "DejaVu Sans".into(),
+        reason: "the bundled font did not load".into(),
+    })
+}
+
+fn plot_error(title: &str, e: impl std::fmt::Display) -> Error {
+    Error::InvalidArgument {
+        name: "plot",
+        value: crate::error::clip(title),
+        reason: e.to_string(),
+    }
+}
 
 impl LinePlot {
-    /// An empty plot of the box `x_range` x `y_range` with grid lines every `ticks.0` in
-    /// `x` and `ticks.1` in `y`. Error: an empty or non-finite range, or a tick spacing
-    /// that is not positive or gives more than 200 lines.
-    pub fn new(x_range: (f64, f64), y_range: (f64, f64), ticks: (f64, f64)) -> Result<Self> {
-        for (name, (lo, hi), t) in [("x range", x_range, ticks.0), ("y range", y_range, ticks.1)] {
-            if !(lo.is_finite() && hi.is_finite() && lo < hi && t > 0.0 && (hi - lo) / t <= 200.0) {
+    /// An empty plot. Error: an axis range that is empty or not finite, or not positive
+    /// on a logarithmic axis.
+    pub fn new(title: &str, x: Axis, y: Axis) -> Result<Self> {
+        for (name, a) in [("x range", &x), ("y range", &y)] {
+            let (lo, hi) = a.range;
+            if !(a.admits(lo) && a.admits(hi) && lo < hi) {
                 return Err(Error::InvalidArgument {
                     name,
-                    value: format!("[{lo}, {hi}] with ticks {t}"),
-                    reason: "needs finite lo < hi and at most 200 grid lines".into(),
+                    value: format!("[{lo}, {hi}]"),
+                    reason: if a.log {
+                        "needs 0 < lo < hi on a logarithmic axis".into()
+                    } else {
+                        "needs finite lo < hi".into()
+                    },
                 });
             }
         }
         Ok(Self {
-            x_range,
-            y_range,
-            ticks,
+            title: title.into(),
+            x,
+            y,
             series: Vec::new(),
         })
     }
 
-    /// Adds a line (points outside the box are clipped when drawn; non-finite points
-    /// break the line).
+    /// Adds a line.
     pub fn add(&mut self, series: Series) {
         self.series.push(series);
     }
 
-    /// The RGB pixels (row-major, `width * height`, top row first). Error: a size too
-    /// small for the margins (less than 64 x 48).
+    /// The RGB pixels (row-major, `width * height`, top row first). Error: a size below
+    /// 160 x 120, or a drawing error.
     pub fn rasterize(&self, width: usize, height: usize) -> Result<Vec<[u8; 3]>> {
-        if width < 64 || height < 48 {
+        if width < 160 || height < 120 || width > 8192 || height > 8192 {
             return Err(Error::InvalidArgument {
                 name: "plot size",
                 value: format!("{width} x {height}"),
-                reason: "must be at least 64 x 48 pixels".into(),
+                reason: "must be 160 x 120 to 8192 x 8192 pixels".into(),
             });
         }
-        let mut canvas = Canvas {
-            width,
-            height,
-            rgb: vec![[255; 3]; width * height],
-        };
-        let (x0, x1) = (MARGIN[0] as f64, (width - MARGIN[1]) as f64);
-        let (y0, y1) = (MARGIN[2] as f64, (height - MARGIN[3]) as f64);
-        let px = |x: f64| x0 + (x - self.x_range.0) / (self.x_range.1 - self.x_range.0) * (x1 - x0);
-        let py = |y: f64| y1 - (y - self.y_range.0) / (self.y_range.1 - self.y_range.0) * (y1 - y0);
-        // Grid at multiples of the tick spacing, with tick marks below and left of the box.
-        for (k, lo, hi, t) in [
-            (0, self.x_range.0, self.x_range.1, self.ticks.0),
-            (1, self.y_range.0, self.y_range.1, self.ticks.1),
-        ] {
-            let mut v = (lo / t).ceil() * t;
-            while v <= hi + 1e-9 * t {
-                if k == 0 {
-                    let x = px(v).round();
-                    canvas.segment((x, y0), (x, y1), GRID);
-                    canvas.segment((x, y1), (x, y1 + 4.0), AXIS);
-                } else {
-                    let y = py(v).round();
-                    canvas.segment((x0, y), (x1, y), GRID);
-                    canvas.segment((x0 - 4.0, y), (x0, y), AXIS);
-                }
-                v += t;
-            }
-        }
-        if self.y_range.0 < 0.0 && self.y_range.1 > 0.0 {
-            let y = py(0.0).round();
-            canvas.segment((x0, y), (x1, y), ZERO);
-        }
+        register_font()?;
+        let mut buf = vec![255u8; width * height * 3];
+        let (x, y) = (self.x.range, self.y.range);
+        match (self.x.log, self.y.log) {
+            (false, false) => self.draw(&mut buf, width, height, x.0..x.1, y.0..y.1),
+            (true, false) => self.draw(&mut buf, width, height, (x.0..x.1).log_scale(), y.0..y.1),
+            (false, true) => self.draw(&mut buf, width, height, x.0..x.1, (y.0..y.1).log_scale()),
+            (true, true) => self.draw(
+                &mut buf,
+                width,
+                height,
+                (x.0..x.1).log_scale(),
+                (y.0..y.1).log_scale(),
+            ),
+        }?;
+        Ok(buf.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect())
+    }
+
+    /// Draws the plot into `buf` (RGB) with the coordinates `xs`, `ys`.
+    fn draw<X, Y>(&self, buf: &mut [u8], w: usize, h: usize, xs: X, ys: Y) -> Result<()>
+    where
+        X: AsRangedCoord<Value = f64>,
+        Y: AsRangedCoord<Value = f64>,
+        X::CoordDescType: ValueFormatter<f64>,
+        Y::CoordDescType: ValueFormatter<f64>,
+    {
+        let err = |e: &dyn std::fmt::Display| plot_error(&self.title, e);
+        let root = BitMapBackend::with_buffer(buf, (w as u32, h as u32)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| err(&e))?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(&self.title, (FONT, 18))
+            .margin(12)
+            .x_label_area_size(44)
+            .y_label_area_size(64)
+            .build_cartesian_2d(xs, ys)
+            .map_err(|e| err(&e))?;
+        chart
+            .configure_mesh()
+            .x_desc(self.x.label.as_str())
+            .y_desc(self.y.label.as_str())
+            .label_style((FONT, 13))
+            .axis_desc_style((FONT, 14))
+            .light_line_style(RGBColor(235, 235, 235))
+            .bold_line_style(RGBColor(215, 215, 215))
+            .draw()
+            .map_err(|e| err(&e))?;
         for s in &self.series {
-            let mut travelled = 0.0;
-            for w in s.points.windows(2) {
-                let (a, b) = ((px(w[0].0), py(w[0].1)), (px(w[1].0), py(w[1].1)));
-                if ![a.0, a.1, b.0, b.1].iter().all(|v| v.is_finite()) {
-                    continue;
+            let color = RGBColor(s.color[0], s.color[1], s.color[2]);
+            let style = color.stroke_width(2);
+            // Runs of drawable points; the legend entry goes with the first.
+            let mut runs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+            for &(px, py) in &s.points {
+                if self.x.admits(px) && self.y.admits(py) {
+                    runs.last_mut().expect("one run at least").push((px, py));
+                } else if !runs.last().expect("one run at least").is_empty() {
+                    runs.push(Vec::new());
                 }
-                let len = (b.0 - a.0).hypot(b.1 - a.1);
-                let steps = (len * 4.0).ceil().max(1.0) as usize;
-                for i in 0..=steps {
-                    let t = i as f64 / steps as f64;
-                    let along = travelled + t * len;
-                    if s.dashed && (along / DASH) as u64 % 2 == 1 {
-                        continue;
-                    }
-                    let p = (a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1));
-                    if p.0 >= x0 && p.0 <= x1 && p.1 >= y0 && p.1 <= y1 {
-                        canvas.dot(p, s.color, 1.1);
-                    }
+            }
+            for (k, run) in runs.into_iter().filter(|r| !r.is_empty()).enumerate() {
+                let drawn = if s.dashed {
+                    chart.draw_series(DashedLineSeries::new(run, 8, 5, style))
+                } else {
+                    chart.draw_series(LineSeries::new(run, style))
                 }
-                travelled += len;
+                .map_err(|e| err(&e))?;
+                if k == 0 {
+                    let dashed = s.dashed;
+                    drawn.label(s.label.as_str()).legend(move |(x, y)| {
+                        let end = if dashed { x + 8 } else { x + 22 };
+                        PathElement::new(vec![(x, y), (end, y)], style)
+                    });
+                }
             }
         }
-        // The frame last, on top of everything.
-        for (a, b) in [
-            ((x0, y0), (x1, y0)),
-            ((x1, y0), (x1, y1)),
-            ((x1, y1), (x0, y1)),
-            ((x0, y1), (x0, y0)),
-        ] {
-            canvas.segment(a, b, AXIS);
+        if !self.series.is_empty() {
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperRight)
+                .label_font((FONT, 12))
+                .background_style(WHITE.mix(0.85))
+                .border_style(RGBColor(160, 160, 160))
+                .draw()
+                .map_err(|e| err(&e))?;
         }
-        Ok(canvas.rgb)
+        root.present().map_err(|e| err(&e))
     }
 
     /// Rasterizes and writes an 8-bit RGB PNG.
@@ -143,67 +218,58 @@ impl LinePlot {
     }
 }
 
-/// Pixels with coverage-weighted drawing.
-struct Canvas {
-    width: usize,
-    height: usize,
-    rgb: Vec<[u8; 3]>,
-}
-
-impl Canvas {
-    /// Blends `color` into the pixels within `radius` of `p` (pixel centres at
-    /// `i + 0.5`), with a linear fall-off over the last pixel.
-    fn dot(&mut self, p: (f64, f64), color: [u8; 3], radius: f64) {
-        let (lo_x, hi_x) = ((p.0 - radius - 1.0).floor(), (p.0 + radius + 1.0).ceil());
-        let (lo_y, hi_y) = ((p.1 - radius - 1.0).floor(), (p.1 + radius + 1.0).ceil());
-        for j in (lo_y.max(0.0) as usize)..(hi_y.max(0.0) as usize).min(self.height) {
-            for i in (lo_x.max(0.0) as usize)..(hi_x.max(0.0) as usize).min(self.width) {
-                let d = (i as f64 + 0.5 - p.0).hypot(j as f64 + 0.5 - p.1);
-                let a = (radius + 0.5 - d).clamp(0.0, 1.0);
-                if a > 0.0 {
-                    let px = &mut self.rgb[j * self.width + i];
-                    for k in 0..3 {
-                        px[k] = (px[k] as f64 * (1.0 - a) + color[k] as f64 * a).round() as u8;
-                    }
-                }
-            }
-        }
-    }
-
-    /// A straight hairline (pixel-snapped, for the grid and the frame).
-    fn segment(&mut self, a: (f64, f64), b: (f64, f64), color: [u8; 3]) {
-        let len = (b.0 - a.0).hypot(b.1 - a.1);
-        let steps = (len * 2.0).ceil().max(1.0) as usize;
-        for i in 0..=steps {
-            let t = i as f64 / steps as f64;
-            let (x, y) = (a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1));
-            let (i, j) = (x.floor(), y.floor());
-            if i >= 0.0 && j >= 0.0 && (i as usize) < self.width && (j as usize) < self.height {
-                self.rgb[j as usize * self.width + i as usize] = color;
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn draws_lines_inside_the_box() {
-        let mut p = LinePlot::new((0.0, 90.0), (-1.0, 1.0), (10.0, 0.5)).unwrap();
+    fn draws_titled_labelled_lines() {
+        let mut p = LinePlot::new(
+            "a test",
+            Axis::linear("x", (0.0, 90.0)),
+            Axis::linear("y", (-1.0, 1.0)),
+        )
+        .unwrap();
         p.add(Series {
+            label: "red".into(),
             color: [255, 0, 0],
             dashed: false,
             points: vec![(0.0, 0.0), (90.0, 0.5), (100.0, f64::NAN)],
         });
-        let rgb = p.rasterize(200, 100).unwrap();
-        assert_eq!(rgb.len(), 200 * 100);
-        assert!(rgb.contains(&[255, 0, 0]));
-        // The margins stay white except for tick marks: the top-left pixel.
-        assert_eq!(rgb[0], [255; 3]);
-        assert!(LinePlot::new((1.0, 1.0), (0.0, 1.0), (1.0, 1.0)).is_err());
-        assert!(LinePlot::new((0.0, 1.0), (0.0, 1.0), (1e-9, 1.0)).is_err());
+        let rgb = p.rasterize(400, 300).unwrap();
+        assert_eq!(rgb.len(), 400 * 300);
+        assert!(rgb.iter().filter(|&&c| c == [255, 0, 0]).count() > 100);
+        // Text: dark pixels in the title band above the plot box.
+        assert!(rgb[..400 * 20].iter().any(|c| c.iter().all(|&v| v < 100)));
+        assert!(LinePlot::new(
+            "",
+            Axis::linear("x", (1.0, 1.0)),
+            Axis::linear("y", (0.0, 1.0))
+        )
+        .is_err());
+        assert!(LinePlot::new(
+            "",
+            Axis::log("x", (0.0, 1.0)),
+            Axis::linear("y", (0.0, 1.0))
+        )
+        .is_err());
         assert!(p.rasterize(10, 10).is_err());
+    }
+
+    #[test]
+    fn log_axes_take_positive_points() {
+        let mut p = LinePlot::new(
+            "log",
+            Axis::log("t", (1e-3, 10.0)),
+            Axis::log("e", (1e-4, 1.0)),
+        )
+        .unwrap();
+        p.add(Series {
+            label: "a".into(),
+            color: [0, 0, 200],
+            dashed: true,
+            points: vec![(1e-2, 0.1), (0.0, 0.05), (1.0, 1e-3)],
+        });
+        assert!(p.rasterize(320, 240).is_ok());
     }
 }

@@ -115,7 +115,7 @@ pub fn render_job(
         .iter()
         .map(|o| o.mesh.positions().len())
         .sum();
-    let plan = Plan::new(scene, settings, planning)?;
+    let plan = Plan::with_progress(scene, settings, planning, progress)?;
     let t_plan = t0.elapsed().as_secs_f64();
     let transfer = precompute_planned(scene, &plan, progress)?;
     let t_pre = t0.elapsed().as_secs_f64() - t_plan;

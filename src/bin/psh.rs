@@ -703,6 +703,7 @@ impl TerminalProgress {
 
 impl psh::progress::Progress for TerminalProgress {
     fn start(&self, what: &str, total: u64) {
+        self.0.reset();
         self.0
             .set_draw_target(indicatif::ProgressDrawTarget::stderr());
         self.0.set_length(total);

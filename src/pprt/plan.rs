@@ -207,6 +207,17 @@ impl Plan {
     /// outside `(0, 1)`, and materials or an environment that cannot be projected at the
     /// band limits.
     pub fn new(scene: &Scene, settings: TransferSettings, planning: Planning) -> Result<Plan> {
+        Self::with_progress(scene, settings, planning, &crate::progress::Silent)
+    }
+
+    /// [`Self::new`], reporting the materials projected to `progress` (stage
+    /// "materials": the projection of the pBRDFs is most of a plan's time).
+    pub fn with_progress(
+        scene: &Scene,
+        settings: TransferSettings,
+        planning: Planning,
+        progress: &dyn crate::progress::Progress,
+    ) -> Result<Plan> {
         if let Planning::Tolerance(tolerance) = planning {
             if !(tolerance > 0.0 && tolerance < 1.0) {
                 return Err(Error::InvalidArgument {
@@ -216,20 +227,31 @@ impl Plan {
                 });
             }
         }
-        Self::build(scene, settings, planning)
+        Self::build(scene, settings, planning, progress)
     }
 
-    fn build(scene: &Scene, settings: TransferSettings, planning: Planning) -> Result<Plan> {
+    fn build(
+        scene: &Scene,
+        settings: TransferSettings,
+        planning: Planning,
+        progress: &dyn crate::progress::Progress,
+    ) -> Result<Plan> {
         settings.check()?;
         let tolerance = planning.tolerance();
         let l = settings.l_low;
         let lh = settings.l_high.max(l);
         let mut reasons = Vec::new();
+        progress.start("materials", scene.materials().len() as u64);
         let matrices_high = scene
             .materials()
             .par_iter()
-            .map(|m| m.matrices(lh))
+            .map(|m| {
+                let projected = m.matrices(lh);
+                progress.advance(1);
+                projected
+            })
             .collect::<Result<Vec<_>>>()?;
+        progress.finish();
         let matrices = matrices_high
             .iter()
             .map(|ms| {
