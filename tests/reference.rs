@@ -34,6 +34,7 @@ fn bench_error_writes_the_contract() {
         rays: 16,
         spp: vec![1, 4],
         ground_truth_spp: 16,
+        ground_truth: None,
     };
     let report = bench_error(&scene, &options, &dir, &psh::progress::Silent).unwrap();
     assert_eq!(report.ground_truth_spp, 16);
@@ -72,4 +73,75 @@ fn bench_error_writes_the_contract() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("l_max 7"), "{e}");
+}
+
+/// An outside ground truth read from a Stokes image EXR with layers `S0..S3` (Mitsuba 3's
+/// layout, written here with the `exr` crate): PPRT's own render written so and read back
+/// is the ground truth of the matching row, whose RMSE is then the file's f32 rounding;
+/// a file of another size is refused naming both sizes.
+#[test]
+fn bench_error_takes_an_outside_ground_truth() {
+    use exr::prelude::*;
+    use psh::apps::bench_error::{bench_error, ground_truth_image, BenchErrorOptions};
+    use psh::pprt::{direct_light, precompute_planned, primary_hits, render_frame, Plan};
+    let dir = std::env::temp_dir().join(format!("psh-outside-truth-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = builtin_scene(3, 20, 15).unwrap();
+    let settings = psh::pprt::TransferSettings {
+        l_low: 3,
+        l_high: 0,
+        rays: 16,
+        visibility: psh::pprt::Visibility::Rays,
+    };
+    let plan = Plan::new(&scene, settings, psh::pprt::Planning::Full).unwrap();
+    let transfer = precompute_planned(&scene, &plan, &psh::progress::Silent).unwrap();
+    let hits = primary_hits(&scene);
+    let direct = direct_light(&scene, &hits).unwrap();
+    let image = render_frame(&scene, &transfer, &plan.high_fields(), &hits, &direct).unwrap();
+    let (w, h) = (image.width, image.height);
+    let mut list = Vec::new();
+    for p in 0..4 {
+        for (c, name) in ["R", "G", "B"].iter().enumerate() {
+            let values: Vec<f32> = image.channels[c].iter().map(|s| s[p] as f32).collect();
+            let channel = format!("S{p}.{name}");
+            list.push(AnyChannel::new(channel.as_str(), FlatSamples::F32(values)));
+        }
+    }
+    let layer = Layer::new(
+        (w, h),
+        LayerAttributes::default(),
+        Encoding::FAST_LOSSLESS,
+        AnyChannels::sort(list.into()),
+    );
+    let path = dir.join("truth.exr");
+    Image::from_layer(layer).write().to_file(&path).unwrap();
+    let read = psh::io::read_stokes_image(&path).unwrap();
+    let truth = ground_truth_image(&scene, read).unwrap();
+    let options = BenchErrorOptions {
+        l_max: 3,
+        rays: 16,
+        spp: vec![1],
+        ground_truth_spp: 4,
+        ground_truth: Some(truth),
+    };
+    let report = bench_error(&scene, &options, &dir, &psh::progress::Silent).unwrap();
+    assert_eq!(report.ground_truth, "outside image");
+    let row = report
+        .rows
+        .iter()
+        .find(|r| r.method == "pprt" && r.setting == "low_only" && r.l_max == Some(3))
+        .unwrap();
+    assert!(row.rmse.iter().all(|&e| e < 1e-6), "{:?}", row.rmse);
+    let other = report
+        .rows
+        .iter()
+        .find(|r| r.method == "pprt" && r.l_max == Some(2))
+        .unwrap();
+    assert!(other.rmse[0] > 1e-4, "{:?}", other.rmse);
+    let small = builtin_scene(3, 10, 8).unwrap();
+    let e = ground_truth_image(&small, psh::io::read_stokes_image(&path).unwrap())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("20 x 15") && e.contains("10 x 8"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
 }

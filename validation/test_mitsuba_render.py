@@ -22,6 +22,7 @@ within 2 pixels see the same object (`render_object.exr`).
 
 import pathlib
 import time
+import tomllib
 
 import drjit as dr
 import mitsuba as mi
@@ -37,14 +38,18 @@ LADDER = [2, 3, 4, 6, 8, 10]
 mi.set_variant("scalar_spectral_polarized")
 
 
-def mitsuba_stokes(xml, seed):
-    """[component][row][column][channel], and the seconds the render took."""
+def mitsuba_stokes(xml, seed, exr=None):
+    """[component][row][column][channel], and the seconds the render took; the film
+    written to `exr` when given (layers S0..S3, as Mitsuba writes them)."""
     dr.set_thread_count(2)
     scene = mi.load_file(str(xml))
     t = time.time()
     mi.render(scene, seed=seed)
     seconds = time.time() - t
-    layers = dict(scene.sensors()[0].film().bitmap().split())
+    bitmap = scene.sensors()[0].film().bitmap()
+    if exr is not None:
+        bitmap.write(str(exr))
+    layers = dict(bitmap.split())
     return np.stack([np.array(layers[f"S{p}"], dtype=np.float64) for p in range(4)]), seconds
 
 
@@ -79,7 +84,8 @@ def compare_scene(psh, record, key):
                      "--out", psh.path(f"mitsuba_{key}"))
     assert export["differences"] == [], export["differences"]
     xml = pathlib.Path(export["files"][0])
-    m1, t_mi = mitsuba_stokes(xml, 1)
+    mitsuba_exr = psh.path(f"mitsuba_{key}.exr")
+    m1, t_mi = mitsuba_stokes(xml, 1, mitsuba_exr)
     m2, _ = mitsuba_stokes(xml, 7)
     everywhere = np.ones(m1.shape[1:3], dtype=bool)
     # Mitsuba's own noise: two independent renders differ by sqrt(2) sigma.
@@ -126,6 +132,25 @@ def compare_scene(psh, record, key):
             rows.append((setting, l, l_low, l_high, e, times["frame"],
                          times["precompute"] + times["plan"], bias))
     total = {(row[0], row[1]): float(np.sqrt(sum(x * x for x in row[4]))) for row in rows}
+    # psh bench-error reads Mitsuba's EXR as its ground truth: its PPRT low-only row at
+    # l = 4 (surface pixels) is the RMSE computed here from the same render.
+    spec = tomllib.loads(path.read_text())
+    camera = spec["camera"]
+    bench = psh.run("bench-error", "--scene", path, "--ground-truth", mitsuba_exr,
+                    "--size", f"{camera['width']}x{camera['height']}",
+                    "--rays", spec["settings"]["rays"], "--lmax", 4, "--spp", 1, "--ground-truth-spp", 4,
+                    "--out", psh.path(f"mitsuba_{key}_bench"))
+    row = next(x for x in bench["rows"] if x["setting"] == "low_only" and x["l_max"] == 4)
+    # bench-error's rows keep everything (no plan: the convex sphere keeps its rays).
+    same = psh.path(f"mitsuba_{key}_pprt_no_plan_4")
+    psh.run("render", "--scene", path, "--l-low", 4, "--l-high", 0, "--no-plan", "--json",
+            "--out", same)
+    here = rmse(psh_stokes(same), m1, obj > 0)
+    record(f"{key}: psh bench-error --ground-truth on Mitsuba's EXR vs the same RMSE here, "
+           "PPRT low-only l = 4, s0..s2 (relative)", "mitsuba",
+           max(abs(a / b - 1) for a, b in zip(row["rmse"][:3], here[:3])), 1e-5,
+           measure="relative difference",
+           detail="layers S0..S3 read in psh's camera frames, rows top first")
     return dict(key=key, export=export, sigma=sigma, to_ref=to_ref, meta=meta, rows=rows,
                 total=total, means=means, t_mi=t_mi, inner=int(inner.sum()),
                 pixels=int(everywhere.sum()), ref_inner=rmse(r, m1, inner))

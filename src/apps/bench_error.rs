@@ -31,8 +31,32 @@ pub struct BenchErrorOptions {
     pub rays: usize,
     /// Sample counts of the reference rows.
     pub spp: Vec<usize>,
-    /// Samples per pixel of the ground truth.
+    /// Samples per pixel of the ground truth (and of the band-limit floor's reference).
     pub ground_truth_spp: usize,
+    /// An outside ground truth instead of psh's reference (Mitsuba 3's render read by
+    /// [`crate::io::read_stokes_image`], made an image by [`ground_truth_image`]).
+    pub ground_truth: Option<StokesImage>,
+}
+
+/// An outside render of `scene` (`(width, height, [channel][pixel] components)` in the
+/// camera's frames) as the ground truth of [`bench_error`], with psh's object mask (the
+/// camera's primary hits). Error: a size other than the camera's, or not 3 channels.
+pub fn ground_truth_image(
+    scene: &Scene,
+    (width, height, channels): crate::io::StokesPixels,
+) -> Result<StokesImage> {
+    let cam = scene.camera();
+    if (width, height) != (cam.width, cam.height) || channels.len() != 3 {
+        return Err(Error::InvalidArgument {
+            name: "ground truth image",
+            value: format!("{width} x {height}, {} channels", channels.len()),
+            reason: format!("the scene's camera is {} x {}, RGB", cam.width, cam.height),
+        });
+    }
+    let pixels: Vec<[[f64; 4]; 3]> = (0..width * height)
+        .map(|k| [channels[0][k], channels[1][k], channels[2][k]])
+        .collect();
+    Ok(StokesImage::from_pixels(cam, &pixels, &primary_hits(scene)))
 }
 
 /// One row of `bench-error.json` (the contract).
@@ -50,6 +74,8 @@ pub struct Row {
 /// `bench-error.json`: the ground truth, every row, and the speed-up at equal error.
 #[derive(Clone, Debug, Serialize)]
 pub struct BenchErrorReport {
+    /// "psh reference" at `ground_truth_spp`, or "outside image" ([`BenchErrorOptions::ground_truth`]).
+    pub ground_truth: &'static str,
     pub ground_truth_spp: usize,
     pub ground_truth_s: f64,
     /// Width and height in pixels.
@@ -181,7 +207,13 @@ pub fn bench_error(
         let image = r.render(&hits)?;
         Ok((image, t.elapsed().as_secs_f64()))
     };
-    let (truth, truth_s) = reference(options.ground_truth_spp, Fidelity::Exact, 1)?;
+    let (truth, truth_s) = match &options.ground_truth {
+        Some(t) => (
+            ground_truth_image(scene, (t.width, t.height, t.channels.clone()))?,
+            0.0,
+        ),
+        None => reference(options.ground_truth_spp, Fidelity::Exact, 1)?,
+    };
     progress.advance(1);
     let mut rows = Vec::new();
     let mut push = |row: Row| -> Result<()> {
@@ -242,6 +274,11 @@ pub fn bench_error(
     progress.finish();
     let speedup = speedup_at_equal_error(&rows, options.l_max);
     let report = BenchErrorReport {
+        ground_truth: if options.ground_truth.is_some() {
+            "outside image"
+        } else {
+            "psh reference"
+        },
         ground_truth_spp: options.ground_truth_spp,
         ground_truth_s: truth_s,
         image: [truth.width, truth.height],

@@ -175,6 +175,11 @@ struct BenchErrorArgs {
     /// Samples per pixel of the ground truth.
     #[arg(long, default_value_t = 2048)]
     ground_truth_spp: usize,
+    /// An outside ground truth: a Stokes image EXR with layers S0..S3 (R, G, B), as
+    /// Mitsuba 3's stokes integrator writes it, of the scene's camera (docs/mitsuba.md);
+    /// psh's reference still renders the band-limit floor at --ground-truth-spp.
+    #[arg(long)]
+    ground_truth: Option<PathBuf>,
     /// How the analytic sky carries its sun (lobe or directional; the scene's by
     /// default), as in render.
     #[arg(long, value_parser = parse_sun)]
@@ -1348,6 +1353,14 @@ fn bench_error(a: &BenchErrorArgs) -> psh::Result<serde_json::Value> {
         rays: a.rays,
         spp,
         ground_truth_spp: a.ground_truth_spp,
+        ground_truth: a
+            .ground_truth
+            .as_ref()
+            .map(|p| {
+                psh::io::read_stokes_image(p)
+                    .and_then(|image| psh::apps::bench_error::ground_truth_image(&scene, image))
+            })
+            .transpose()?,
     };
     to_json(&psh::apps::bench_error::bench_error(
         &scene,

@@ -31,13 +31,28 @@ const PIXEL_BYTES: usize = 4 + 8 + 32;
 /// One component file: its size and the channels psh reads ([`choose_channels`]). Error:
 /// a missing or unreadable file, a size over the budget, a non-finite texel.
 fn read_component(path: &Path) -> Result<Component> {
+    let (size, all) = read_channels(path, "missing Stokes component file")?;
+    let names: Vec<String> = all.iter().map(|(n, _)| n.clone()).collect();
+    let chosen = choose_channels(path, &names)?;
+    let mut all: Vec<Option<Vec<f64>>> = all.into_iter().map(|(_, v)| Some(v)).collect();
+    Ok((
+        size,
+        chosen
+            .into_iter()
+            .map(|(name, k)| (name, all[k].take().expect("each channel chosen once")))
+            .collect(),
+    ))
+}
+
+/// Every channel of the first layer of the EXR file `path`: its `(rows, columns)` and
+/// `(name, values)` per channel. Errors: a missing file (`missing` says what it should
+/// have been), an unreadable file, a size over the memory budget (checked on the header,
+/// before any pixel is read), a non-finite texel.
+fn read_channels(path: &Path, missing: &str) -> Result<Component> {
     if !path.exists() {
         return Err(io_error(
             path,
-            std::io::Error::new(
-                std::io::ErrorKind::NotFound,
-                "missing Stokes component file",
-            ),
+            std::io::Error::new(std::io::ErrorKind::NotFound, missing.to_string()),
         ));
     }
     // The header's sizes are input: checked against the budget before any pixel is read
@@ -59,20 +74,10 @@ fn read_component(path: &Path) -> Result<Component> {
         read_first_flat_layer_from_file(path).map_err(|e| malformed(path, e.to_string()))?;
     let layer = image.layer_data;
     let size = (layer.size.height(), layer.size.width());
-    let names: Vec<String> = layer
-        .channel_data
-        .list
-        .iter()
-        .map(|c| c.name.to_string())
-        .collect();
-    let chosen = choose_channels(path, &names)?;
-    let mut chans = Vec::with_capacity(chosen.len());
-    for (name, k) in chosen {
-        let values: Vec<f64> = layer.channel_data.list[k]
-            .sample_data
-            .values_as_f32()
-            .map(f64::from)
-            .collect();
+    let mut chans = Vec::with_capacity(layer.channel_data.list.len());
+    for c in &layer.channel_data.list {
+        let name = c.name.to_string();
+        let values: Vec<f64> = c.sample_data.values_as_f32().map(f64::from).collect();
         if let Some(t) = values.iter().position(|x| !x.is_finite()) {
             return Err(malformed(
                 path,
@@ -80,7 +85,7 @@ fn read_component(path: &Path) -> Result<Component> {
                     "texel {t} (row {}, column {}) of channel {} is {} (texels must be finite)",
                     t / size.1,
                     t % size.1,
-                    crate::error::clip(&names[k]),
+                    crate::error::clip(&name),
                     values[t]
                 ),
             ));
@@ -88,6 +93,64 @@ fn read_component(path: &Path) -> Result<Component> {
         chans.push((name, values));
     }
     Ok((size, chans))
+}
+
+/// A Stokes image as read: width, height, and per channel the components `[s0..s3]` of
+/// every pixel (row-major, top row first).
+pub type StokesPixels = (usize, usize, Vec<Vec<[f64; 4]>>);
+
+/// A Stokes image in one EXR file as Mitsuba 3's `stokes` integrator writes it: layers
+/// `S0`, `S1`, `S2`, `S3` (case ignored), each with channels `R, G, B` (or `Y`, or the
+/// layer's name alone for one channel); components in the camera's frames (x
+/// image-right, y image-up, z towards the camera: psh's render images, `docs/mitsuba.md`).
+/// Returns `(width, height, [channel][pixel] components)`. Errors: as [`read_stokes_map`]'s,
+/// and a missing layer or channel (named).
+pub fn read_stokes_image(path: impl AsRef<Path>) -> Result<StokesPixels> {
+    let path = path.as_ref();
+    let ((h, w), all) = read_channels(path, "missing Stokes image file")?;
+    let listed = || {
+        crate::error::clip(&format!(
+            "{:?}",
+            all.iter().map(|(n, _)| n).collect::<Vec<_>>()
+        ))
+    };
+    let find = |p: usize, base: &str| {
+        all.iter().position(|(n, _)| {
+            let (layer, channel) = n.rsplit_once('.').unwrap_or((n.as_str(), ""));
+            layer.eq_ignore_ascii_case(&format!("s{p}")) && channel == base
+        })
+    };
+    let mut channels: Option<Vec<Vec<[f64; 4]>>> = None;
+    for p in 0..4 {
+        let ks: Vec<usize> = ["R", "G", "B"]
+            .iter()
+            .map(|b| find(p, b))
+            .collect::<Option<Vec<_>>>()
+            .or_else(|| find(p, "Y").map(|k| vec![k]))
+            .or_else(|| find(p, "").map(|k| vec![k]))
+            .ok_or_else(|| {
+                malformed(
+                    path,
+                    format!(
+                        "no layer S{p} with channels R, G, B or Y among {}",
+                        listed()
+                    ),
+                )
+            })?;
+        let ch = channels.get_or_insert_with(|| vec![vec![[0.0; 4]; w * h]; ks.len()]);
+        if ch.len() != ks.len() {
+            return Err(malformed(
+                path,
+                format!("layer S{p} has {} channels, S0 has {}", ks.len(), ch.len()),
+            ));
+        }
+        for (c, &k) in ks.iter().enumerate() {
+            for (texel, &x) in ch[c].iter_mut().zip(&all[k].1) {
+                texel[p] = x;
+            }
+        }
+    }
+    Ok((w, h, channels.expect("four layers read")))
 }
 
 /// The channels of a component file psh reads, as `(name, index in the file)`, chosen by
@@ -306,6 +369,27 @@ pub(crate) fn write_rgb_exr(path: &Path, w: usize, h: usize, rgb: [Vec<f32>; 3])
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A file without the layers `S0..S3` is refused naming what it has; a missing file
+    /// names itself.
+    #[test]
+    fn stokes_images_need_their_layers() {
+        let d = std::env::temp_dir().join(format!("psh_exr_layers_{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        let layout = MapLayout::from_image_size(4, 8).unwrap();
+        let v = crate::testing::random_psh(2, Codomain::Full, 3, 5).unwrap();
+        let map = StokesMap::reconstruct(&v, layout).unwrap();
+        write_stokes_map(&map, d.join("m_s%d.exr").to_str().unwrap()).unwrap();
+        let e = read_stokes_image(d.join("m_s0.exr"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("no layer S0") && e.contains("\"R\""), "{e}");
+        let e = read_stokes_image(d.join("none.exr"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("none.exr"), "{e}");
+        std::fs::remove_dir_all(&d).unwrap();
+    }
 
     /// A small file whose header claims a huge data window is refused before its pixels
     /// are allocated (issue 21: 284 KB claiming 120000 x 90000 asked for 43 GB).

@@ -27,7 +27,9 @@ pub(crate) mod png;
 pub(crate) mod scene_file;
 pub(crate) mod texels;
 
-pub use exr::{read_stokes_map, write_stokes_image, write_stokes_map};
+pub use exr::{
+    read_stokes_image, read_stokes_map, write_stokes_image, write_stokes_map, StokesPixels,
+};
 pub use kernel_csv::read_kernel_csv;
 #[cfg(feature = "render")]
 pub use mitsuba::{export_mitsuba, MitsubaExport, ENVMAP_ROWS};
