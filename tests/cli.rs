@@ -372,7 +372,7 @@ fn filter_report_writes_csv_and_png() {
     // The PNGs decode to the plot size.
     let png = std::fs::File::open(dir.join("psi_gold.png")).unwrap();
     let info = png::Decoder::new(png).read_info().unwrap();
-    assert_eq!((info.info().width, info.info().height), (480, 300));
+    assert_eq!((info.info().width, info.info().height), (720, 480));
     // The Markdown form: a header and one row per material.
     let md = psh(&[
         "filter-report",
