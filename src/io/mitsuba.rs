@@ -69,7 +69,11 @@ pub fn export_mitsuba(
         });
     }
     // The image (f32 RGB) and its f64 evaluation.
-    crate::budget::check("the environment map", &[env_rows, 2 * env_rows], 48)?;
+    crate::budget::check(
+        "the environment map",
+        &[env_rows, env_rows.saturating_mul(2)],
+        48,
+    )?;
     std::fs::create_dir_all(dir).map_err(|e| io_error(dir, e))?;
     let mut differences = Vec::new();
     let mut xml = String::from(
