@@ -256,7 +256,7 @@ def render(
     shadows: bool = True,
     tolerance: Optional[float] = 1e-3,
     polarizers: Sequence[float] = (0.0, 45.0, 90.0, 135.0),
-    valid_range: bool = False,
+    valid_range: bool = True,
 ) -> Tuple[FloatArray, dict]:
     """PPRT (PSH Sec. 7): ``(stokes (3, height, width, 4), report)``."""
 

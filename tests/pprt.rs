@@ -424,6 +424,56 @@ fn the_valid_range_projection_leaves_no_unphysical_pixel() {
     }
 }
 
+/// The projection onto PSH (70) never moves a pixel away from a valid truth
+/// (proofs/stokes-valid-range.md): against the reference renderer (Monte Carlo sums of
+/// valid vectors, hence valid), every projected pixel is at most as far as the raw one,
+/// and the projected image is strictly closer overall (why `psh render` projects by
+/// default).
+#[test]
+fn the_valid_range_projection_brings_pixels_closer_to_the_reference() {
+    use psh::pprt::{primary_hits, render_frame, Fidelity, Reference, ReferenceSettings};
+    let scene = builtin_scene(9, 64, 48).unwrap();
+    let settings = TransferSettings::default();
+    let plan = psh::pprt::Plan::new(&scene, settings, Planning::Full).unwrap();
+    let transfer = psh::pprt::precompute_planned(&scene, &plan, &psh::progress::Silent).unwrap();
+    let hits = primary_hits(&scene);
+    let direct = psh::pprt::direct_light(&scene, &hits).unwrap();
+    let raw = render_frame(&scene, &transfer, &plan.high_fields(), &hits, &direct).unwrap();
+    let mut valid = raw.clone();
+    valid.to_nearest_physical().unwrap();
+    let settings = ReferenceSettings {
+        samples: 64,
+        fidelity: Fidelity::Exact,
+        seed: 1,
+    };
+    let truth = Reference::new(&scene, settings)
+        .unwrap()
+        .render(&hits)
+        .unwrap();
+    let dist =
+        |a: &[f64; 4], b: &[f64; 4]| (0..4).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt();
+    let (mut raw_sq, mut valid_sq, mut moved) = (0.0, 0.0, 0);
+    for ((r, v), t) in raw
+        .channels
+        .iter()
+        .flatten()
+        .zip(valid.channels.iter().flatten())
+        .zip(truth.channels.iter().flatten())
+    {
+        assert!(
+            t[0] >= t[1].hypot(t[2]).hypot(t[3]) - 1e-12 * t[0].abs(),
+            "{t:?}"
+        );
+        let (dr, dv) = (dist(r, t), dist(v, t));
+        assert!(dv <= dr + 1e-12, "raw {r:?} projected {v:?} truth {t:?}");
+        moved += usize::from(r != v);
+        raw_sq += dr * dr;
+        valid_sq += dv * dv;
+    }
+    assert!(moved > 0);
+    assert!(valid_sq < raw_sq, "{valid_sq} vs {raw_sq}");
+}
+
 /// Camera roll (PSH (14)): turning the camera about its view axis turns its frame on
 /// every ray by the angle `chi` between the two cameras' image-right axes there (the
 /// perspective frame field: `x = normalize(y_c x w)`, `y_c` the camera's image-down axis;

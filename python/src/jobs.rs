@@ -18,8 +18,9 @@ fn to_python<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bo
 /// (pictures, EXR files and `report.json`, as `psh render`): the TOML scene file `scene`,
 /// or the built-in scene at `width x height`; `l_low`, `l_high`, `rays` override the
 /// scene's settings, `shadows=False` turns visibility off, `tolerance` plans what the
-/// scene needs (`None`: compute everything), `valid_range=True` projects every pixel onto
-/// the physically valid range PSH (70) (PSH Fig. 22), `window` ("none", "hann",
+/// scene needs (`None`: compute everything), `valid_range=True` (the default, as `psh render`)
+/// projects every pixel onto the physically valid range PSH (70) (PSH Fig. 22; `False`
+/// keeps the transport's vectors), `window` ("none", "hann",
 /// "lanczos") tapers the environment's band limit, `sun` ("lobe", "directional") says how
 /// the analytic sky carries its sun (the scene's by default). Returns `(stokes, report)`: the image
 /// `(3, height, width, 4)` (RGB, Stokes components in the camera's frames, row 0 at the
@@ -27,7 +28,7 @@ fn to_python<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bo
 #[pyfunction]
 #[pyo3(signature = (scene = None, out = std::path::PathBuf::from("psh-out"), width = 480, height = 360,
     l_low = None, l_high = None, rays = None, shadows = true, tolerance = Some(1e-3),
-    polarizers = vec![0.0, 45.0, 90.0, 135.0], valid_range = false,
+    polarizers = vec![0.0, 45.0, 90.0, 135.0], valid_range = true,
     window = "none".to_string(), sun = None))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(

@@ -240,10 +240,13 @@ struct RenderArgs {
     /// Error tolerance of the plan's decisions (relative; in (0, 1)).
     #[arg(long, default_value_t = 1e-3)]
     tolerance: f64,
-    /// Project every pixel's Stokes vector onto the physically valid range
-    /// s0 >= |(s1, s2, s3)| (PSH (70), Fig. 22): the nearest valid vector, AoLP kept.
+    /// Keep every pixel's Stokes vector as the transport computed it (the pixels breaking
+    /// PSH (70) show in magenta). By default each is projected onto the physically valid
+    /// range s0 >= |(s1, s2, s3)| (PSH (70), Fig. 22): the nearest valid vector, AoLP
+    /// kept, never farther from the true one (proofs/stokes-valid-range.md); report.json
+    /// counts the pixels before the projection either way.
     #[arg(long, conflicts_with = "ablation")]
-    valid_range: bool,
+    no_valid_range: bool,
     /// Taper the environment's band limit by a window (none, hann, lanczos;
     /// proofs/windowed-band-limits.md) before the transfer: less ringing, more blur.
     #[arg(long, default_value = "none", value_parser = parse_window)]
@@ -259,7 +262,7 @@ struct RenderArgs {
     /// Render with the reference renderer instead of PPRT (quasi-Monte Carlo, the
     /// source environment, the materials' models, ray-cast visibility) with this many
     /// directions per pixel; the same pictures, and reference.json.
-    #[arg(long, conflicts_with_all = ["ablation", "valid_range"], value_parser = parse_spp)]
+    #[arg(long, conflicts_with_all = ["ablation", "no_valid_range"], value_parser = parse_spp)]
     reference: Option<usize>,
     /// With --reference: each pixel the mean over G x G positions spread over its area (a
     /// box filter, as Mitsuba 3's), each with the --reference directions (G^2 times the work).
@@ -285,7 +288,7 @@ impl Default for RenderArgs {
             plan: false,
             no_plan: false,
             tolerance: 1e-3,
-            valid_range: false,
+            no_valid_range: false,
             window: psh::sh::Window::None,
             sun: None,
             json: false,
@@ -1120,7 +1123,7 @@ fn render(a: &RenderArgs) -> psh::Result<(serde_json::Value, String)> {
         planning,
         polarizers,
         &a.out,
-        a.valid_range,
+        !a.no_valid_range,
         &TerminalProgress::new(),
     )?;
     if a.plan {
@@ -1201,6 +1204,7 @@ fn render_summary(v: &serde_json::Value, name: &str, out: &Path) -> String {
             100.0 * worst / pixels,
         )
     };
+    let projected = st["valid_range_projection"].as_bool() == Some(true);
     for (place, neg, dop) in [
         (
             "on surfaces",
@@ -1211,9 +1215,10 @@ fn render_summary(v: &serde_json::Value, name: &str, out: &Path) -> String {
     ] {
         let ((n, np), (d, dp)) = (count(neg), count(dop));
         line(format!(
-            "  pixels breaking PSH (70) {place} (R / G / B): s0 < 0 {n} ({np:.2}%), DoP > 1 {d} ({dp:.2}%){}",
-            if st["valid_range_projection"].as_bool() == Some(true) {
-                ", projected onto the valid range"
+            "  pixels breaking PSH (70) {place}{} (R / G / B): s0 < 0 {n} ({np:.2}%), DoP > 1 {d} ({dp:.2}%){}",
+            if projected { " before the projection" } else { "" },
+            if projected {
+                ", none in the pictures (projected onto the valid range; --no-valid-range keeps them)"
             } else if np + dp > 0.0 {
                 ", magenta in the pictures"
             } else {

@@ -20,7 +20,7 @@ pub fn checks() -> Vec<Check> {
         Check {
             id: "stokes.valid_range_projection",
             source: "PSH (70), Fig. 22",
-            description: "the nearest Stokes vector satisfying PSH (70) (StokesComponents::nearest_physical) vs Moreau's conditions for the projection onto the second-order cone (result in the cone, residual in the polar cone, the two orthogonal) and its distance vs 2,000 points of the cone, 2,000 random vectors (most invalid)",
+            description: "the nearest Stokes vector satisfying PSH (70) (StokesComponents::nearest_physical) vs Moreau's conditions for the projection onto the second-order cone (result in the cone, residual in the polar cone, the two orthogonal) its distance vs 2,000 points w of the cone and |P(z) - w| <= |z - w| for each, 2,000 random vectors (most invalid)",
             // Relative to |z|: a hypot, a halving and a scaling per component.
             tolerance: 1e-14,
             proof: Some("proofs/stokes-valid-range.md"),
@@ -452,8 +452,14 @@ fn valid_range_projection() -> Result<f64> {
             .iter()
             .map(|w| (d.norm() - (z - w).norm()).max(0.0))
             .fold(0.0, f64::max);
+        // Never farther from a valid vector than the input (the proof's last section).
+        let closer = cone
+            .iter()
+            .map(|w| ((y - w).norm() - (z - w).norm()).max(0.0))
+            .fold(0.0, f64::max);
         worst = worst
             .max(in_cone / scale)
+            .max(closer / scale)
             .max(residual_in_polar / scale)
             .max(orthogonal)
             .max(nearest / scale);
