@@ -31,7 +31,7 @@
 //! [OMEGA_DEGREES] [OUT_DIR]` (defaults: all, 90, `target/polarizing_filter_sphere`).
 
 use nalgebra::Vector3;
-use psh::io::{srgb8, write_png};
+use psh::io::{srgb8, tick_label, Legend};
 use psh::optics::metalness;
 use psh::optics::{filter_angle, mueller_filtered_reflection, omega, omega_ior, Incidence};
 use psh::optics::{Channel, FresnelCoefficients, Material};
@@ -109,8 +109,8 @@ fn render(material: Material, omega_rad: f64) -> psh::Result<Render> {
     Ok(r)
 }
 
-/// The four panels side by side.
-fn picture(r: &Render) -> Vec<[u8; 3]> {
+/// The four panels side by side, and the intensity shown white.
+fn picture(r: &Render) -> (Vec<[u8; 3]>, f64) {
     let white = r
         .mueller
         .iter()
@@ -133,7 +133,7 @@ fn picture(r: &Render) -> Vec<[u8; 3]> {
             rgb[row + 3 * SIZE + i] = [0, 1, 2].map(|k| srgb8(0.5 + 10.0 * (a[k] - m[k]) / white));
         }
     }
-    rgb
+    (rgb, white)
 }
 
 /// Largest and mean `|Omega - Mueller|` per channel over the sphere.
@@ -176,7 +176,20 @@ fn run() -> Result<bool, Box<dyn std::error::Error>> {
     for m in materials {
         let r = render(m, omega_deg.to_radians())?;
         let path = out.join(format!("sphere_{}.png", m.name().to_ascii_lowercase()));
-        write_png(&path, 4 * SIZE, SIZE, &picture(&r))?;
+        let (rgb, white) = picture(&r);
+        let grey = |t: f64| [srgb8(t); 3];
+        Legend::bar(
+            "intensity (linear; the fourth panel 0.5 + 10 (Omega - Mueller) / white)",
+            &grey,
+            vec![(0.0, "0".into()), (1.0, tick_label(white))],
+        )
+        .panels(&[
+            "no filter",
+            "filter: Mueller",
+            "filter: Omega (PF)",
+            "difference x10",
+        ])
+        .write_png(&path, 4 * SIZE, SIZE, &rgb)?;
         let (max, mean) = differences(&r);
         let pass = r.exact_error <= TOLERANCE;
         ok &= pass;

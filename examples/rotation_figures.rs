@@ -19,7 +19,7 @@ use psh::geometry::rotation_from_rotvec;
 use psh::geometry::Rotated;
 use psh::geometry::ThetaPhiFrameField;
 use psh::geometry::{Equirect, PixelGrid};
-use psh::io::{diverging, write_map_pngs, write_matrix_png, write_png};
+use psh::io::{diverging, tick_label, write_map_pngs, write_matrix_png, Legend};
 use psh::map::{MapLayout, StokesMap};
 use psh::polarized::{reconstruct_image, PshRotation, PshTransform, PshVector};
 use psh::sh::RealWignerD;
@@ -137,7 +137,16 @@ fn figure11(out: &Path, r: &nalgebra::Rotation3<f64>) -> psh::Result<()> {
                 })
                 .collect();
             let path = out.join(format!("fig11_{name}_minus_angular_s{p}.png"));
-            write_png(&path, grid.width, grid.height, &rgb)?;
+            let bar = |t: f64| diverging(2.0 * t - 1.0);
+            let ticks = [-1.0, 0.0, 1.0]
+                .map(|k| (0.5 + 0.5 * k, tick_label(0.1 * k * scale)))
+                .to_vec();
+            Legend::bar(
+                format!("s{p} ({name}) - s{p} (angular), green channel"),
+                &bar,
+                ticks,
+            )
+            .write_png(&path, grid.width, grid.height, &rgb)?;
         }
     }
     println!("  pictures: fig11_{{angular,psh,naive}}_{{s0,s1,s2,s3,dop,aop}}.png, differences (green channel, +-10% of max |s|) fig11_{{psh,naive}}_minus_angular_s{{1,2}}.png");

@@ -22,6 +22,7 @@ use crate::io::write_text;
 use crate::isd::decomposition::{condition_number, transfer_matrix};
 use crate::isd::filter::sh_rotate_dot;
 use crate::isd::{DirectionSet, Isd, Pattern, PreConvolved, Profile, Sharing};
+use crate::progress::Progress;
 use crate::random::pseudo_random;
 use crate::sh::num_coeffs;
 use std::fmt::Write as _;
@@ -79,10 +80,15 @@ fn profile_color(p: Profile) -> [u8; 3] {
 }
 
 /// The condition numbers of ISD Fig. 13 for both patterns (`beta` by quadrature once
-/// per profile at the largest `L`; its leading blocks serve the smaller ones).
-pub fn conditioning() -> Result<Vec<Conditioning>> {
+/// per profile at the largest `L`; its leading blocks serve the smaller ones), counted
+/// on `progress` one profile, pattern and sharing at a time.
+pub fn conditioning(progress: &dyn Progress) -> Result<Vec<Conditioning>> {
     let top = REPORT_LMAX[REPORT_LMAX.len() - 1];
     let mut out = Vec::new();
+    progress.start(
+        "isd-report: condition numbers (profile, pattern, sharing)",
+        (Profile::ALL.len() * 4) as u64,
+    );
     for profile in Profile::ALL {
         let beta = profile.beta(top)?;
         for pattern in [Pattern::Fibonacci, Pattern::Halton] {
@@ -98,9 +104,11 @@ pub fn conditioning() -> Result<Vec<Conditioning>> {
                         condition: condition_number(&transfer_matrix(&b, &dirs)?),
                     });
                 }
+                progress.advance(1);
             }
         }
     }
+    progress.finish();
     Ok(out)
 }
 
@@ -142,11 +150,11 @@ pub fn timing(lmax: usize, rotations: usize) -> Result<(Timing, f64)> {
     ))
 }
 
-/// Writes the report into `dir` (created if missing). Errors: the directory or a file
-/// cannot be written.
-pub fn write_isd_report(dir: &Path) -> Result<IsdReport> {
+/// Writes the report into `dir` (created if missing), reporting its two stages to
+/// `progress`. Errors: the directory or a file cannot be written.
+pub fn write_isd_report(dir: &Path, progress: &dyn Progress) -> Result<IsdReport> {
     std::fs::create_dir_all(dir).map_err(|e| io_error(dir, e))?;
-    let conditioning = conditioning()?;
+    let conditioning = conditioning(progress)?;
     let mut files = Vec::new();
     let mut csv = String::from("profile,pattern,sharing,lmax,condition\n");
     for c in &conditioning {
@@ -198,8 +206,13 @@ pub fn write_isd_report(dir: &Path) -> Result<IsdReport> {
     }
     let mut timings = Vec::new();
     let mut csv = String::from("lmax,rotations,isd_us,sh_us,ratio,max_relative_difference\n");
+    progress.start(
+        "isd-report: ISD against SH rotation (band limits)",
+        TIMING_LMAX.len() as u64,
+    );
     for lmax in TIMING_LMAX {
         let (t, diff) = timing(lmax, TIMING_ROTATIONS)?;
+        progress.advance(1);
         let _ = writeln!(
             csv,
             "{},{TIMING_ROTATIONS},{:.3},{:.3},{:.2},{diff:.2e}",
@@ -210,6 +223,7 @@ pub fn write_isd_report(dir: &Path) -> Result<IsdReport> {
         );
         timings.push(t);
     }
+    progress.finish();
     files.push(write_text(dir.join("timing.csv"), &csv)?);
     Ok(IsdReport {
         files,

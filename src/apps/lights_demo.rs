@@ -6,7 +6,8 @@
 use crate::apps::light_scene::{demo_scene, exact_coefficients, grid_errors, Scene};
 use crate::error::Result;
 use crate::io::io_error;
-use crate::io::png::{diverging, write_png};
+use crate::io::png::diverging;
+use crate::io::Legend;
 use crate::lights::grid::{Lattice, LightGrid, Metric, Refinement};
 use crate::lights::spherical::SphericalLights;
 use std::path::{Path, PathBuf};
@@ -116,7 +117,16 @@ pub(crate) fn error_image(
             diverging((e + 3.0) / 3.0)
         })
         .collect();
-    write_png(path, n, n, &rgb)
+    let bar = |t: f64| diverging(2.0 * t - 1.0);
+    let ticks = (0..=6)
+        .map(|k| (f64::from(k) / 6.0, format!("1e{}", k - 6)))
+        .collect();
+    Legend::bar(
+        "relative error |L - L_exact| / |L_exact| per floor point (log scale)",
+        &bar,
+        ticks,
+    )
+    .write_png(path, n, n, &rgb)
 }
 
 /// Runs the demo and writes `table.md`, `error_adaptive.png` and

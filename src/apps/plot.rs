@@ -3,6 +3,7 @@
 //! `dejavu` crate, so no system font is needed).
 
 use crate::error::{Error, Result};
+use crate::io::legend::{register_font, FONT};
 use crate::io::png::write_png;
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::prelude::*;
@@ -59,21 +60,6 @@ pub struct LinePlot {
     x: Axis,
     y: Axis,
     series: Vec<Series>,
-}
-
-/// The font family every text of a plot uses, registered once from the `dejavu` crate.
-const FONT: &str = "sans-serif";
-
-fn register_font() -> Result<()> {
-    static REGISTERED: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    let ok = *REGISTERED.get_or_init(|| {
-        plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular()).is_ok()
-    });
-    ok.then_some(()).ok_or_else(|| Error::InvalidArgument {
-        name: "plot font",
-        value: "DejaVu Sans".into(),
-        reason: "the bundled font did not load".into(),
-    })
 }
 
 fn plot_error(title: &str, e: impl std::fmt::Display) -> Error {

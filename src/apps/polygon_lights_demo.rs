@@ -11,6 +11,7 @@ use crate::error::Result;
 use crate::io::io_error;
 use crate::lights::grid::{Interpolation, Lattice, LightGrid, Refinement};
 use crate::lights::polygon::PolygonalLights;
+use crate::progress::Progress;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -72,20 +73,26 @@ impl DemoReport {
 }
 
 /// Runs the demo with grids of levels `levels` and writes `table.md` and
-/// `error_<scheme>_N<level>.png` (finest level) into `out` (created if missing).
-pub fn write_polygon_lights_demo(out: &Path) -> Result<DemoReport> {
+/// `error_<scheme>_N<level>.png` (finest level) into `out` (created if missing),
+/// counting the exact coefficients and each grid level on `progress`.
+pub fn write_polygon_lights_demo(out: &Path, progress: &dyn Progress) -> Result<DemoReport> {
     std::fs::create_dir_all(out).map_err(|e| io_error(out, e))?;
     let scene = demo_scene(64, 48, 7)?;
     let lights =
         PolygonalLights::new(scene.lights.clone(), DEMO_LMAX)?.with_horizon(scene.normal)?;
+    let levels = 2..=5u32;
+    progress.start(
+        "polygon-lights-demo: exact coefficients, then grid levels",
+        1 + levels.clone().count() as u64,
+    );
     let t0 = Instant::now();
     let exact = exact_coefficients(&lights, &scene.points)?;
+    progress.advance(1);
     let reference_ms = t0.elapsed().as_secs_f64() * 1e3;
     let norms: Vec<f64> = exact
         .iter()
         .map(|e| e.iter().map(|x| x * x).sum::<f64>().sqrt())
         .collect();
-    let levels = 2..=5u32;
     let mut rows = Vec::new();
     let mut files = Vec::new();
     for level in levels.clone() {
@@ -117,7 +124,9 @@ pub fn write_polygon_lights_demo(out: &Path) -> Result<DemoReport> {
                 files.push(path);
             }
         }
+        progress.advance(1);
     }
+    progress.finish();
     let mut report = DemoReport {
         lights: scene.lights.len(),
         shading_points: scene.points.len(),

@@ -4,7 +4,8 @@
 
 use crate::error::{Error, Result};
 use crate::io::exr::write_stokes_image;
-use crate::io::png::{srgb8, write_png, write_stokes_pngs};
+use crate::io::png::{srgb8, write_stokes_pngs, PictureNotes};
+use crate::io::{tick_label, Legend};
 use crate::polarized::SparsePshMatrix;
 use crate::pprt::plan::Plan;
 use crate::pprt::reference::{Fidelity, Reference, ReferenceSettings};
@@ -202,6 +203,13 @@ fn prepare_output(scene: &Scene, out: &Path) -> Result<()> {
     })
 }
 
+/// The legends of a render's pictures (the frames of [`crate::pprt::render_frame`]).
+const CAMERA_NOTES: PictureNotes = PictureNotes {
+    title: "",
+    frames: "in the camera's frames (x image-right, y image-up)",
+    panels: &[],
+};
+
 /// `render_s{0..3}.exr`, `render_{s0,s1,s2,s3,dop,aop}.png`, `polarizer_{deg}.png` and
 /// `render_object.exr` (per pixel the index of the object seen plus one in `R, G, B`, 0
 /// for the environment: the surface mask) of `image` in `out`; returns the files written.
@@ -211,6 +219,7 @@ fn write_pictures(image: &StokesImage, polarizers: &[f64], out: &Path) -> Result
         &vec![true; image.width * image.height],
         image.width,
         image.height,
+        CAMERA_NOTES,
         out.join("render"),
     )?;
     for &deg in polarizers {
@@ -374,6 +383,14 @@ pub fn ablation_job(
         &vec![true; strip[0].len()],
         w * panels.len(),
         h,
+        PictureNotes {
+            panels: &[
+                &format!("low orders l <= {}", settings.l_low),
+                "+ shadows (triple products)",
+                &format!("+ high orders to l = {}", settings.l_high),
+            ],
+            ..CAMERA_NOTES
+        },
         out.join("ablation"),
     )?;
     let report = AblationReport {
@@ -407,14 +424,37 @@ fn write_polarizer_png(image: &StokesImage, deg: f64, out: &Path) -> Result<Path
     s0.sort_by(f64::total_cmp);
     let exposure = 1.0 / s0[(0.99 * (s0.len() - 1) as f64) as usize].max(1e-300);
     // A negative intensity through the polarizer breaks PSH (70): flagged, not black.
-    let rgb: Vec<[u8; 3]> = (0..image.width * image.height)
-        .map(|k| match (0..3).any(|c| through[c][k] < 0.0) {
+    let negative: Vec<bool> = (0..image.width * image.height)
+        .map(|k| (0..3).any(|c| through[c][k] < 0.0))
+        .collect();
+    let rgb: Vec<[u8; 3]> = negative
+        .iter()
+        .enumerate()
+        .map(|(k, &flag)| match flag {
             true => crate::io::UNPHYSICAL,
             false => [0, 1, 2].map(|c| srgb8(2.0 * exposure * through[c][k])),
         })
         .collect();
+    let white = 0.5 / exposure;
+    let grey = |t: f64| [srgb8(t); 3];
+    let mut legend = Legend::bar(
+        format!("through a linear polarizer at {deg} degrees (from image-right towards image-up)"),
+        &grey,
+        vec![
+            (0.0, "0".into()),
+            (0.5, tick_label(0.5 * white)),
+            (1.0, tick_label(white)),
+        ],
+    );
+    let negative = negative.iter().filter(|&&f| f).count();
+    if negative > 0 {
+        legend = legend.flag(
+            crate::io::UNPHYSICAL,
+            format!("negative intensity in a channel (breaks PSH (70)): {negative} pixels"),
+        );
+    }
     let path = out.join(format!("polarizer_{deg}.png"));
-    write_png(&path, image.width, image.height, &rgb)?;
+    legend.write_png(&path, image.width, image.height, &rgb)?;
     Ok(path)
 }
 

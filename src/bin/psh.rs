@@ -801,12 +801,15 @@ fn main() -> ExitCode {
 }
 
 fn isd_report(a: &LightsDemoArgs) -> ExitCode {
-    print_table(psh::apps::isd_report::write_isd_report(&a.out).map(|r| r.markdown_table()))
+    print_table(
+        psh::apps::isd_report::write_isd_report(&a.out, &TerminalProgress::new())
+            .map(|r| r.markdown_table()),
+    )
 }
 
 fn polygon_lights_demo(a: &LightsDemoArgs) -> ExitCode {
     print_table(
-        psh::apps::polygon_lights_demo::write_polygon_lights_demo(&a.out)
+        psh::apps::polygon_lights_demo::write_polygon_lights_demo(&a.out, &TerminalProgress::new())
             .map(|r| r.markdown_table()),
     )
 }

@@ -16,6 +16,7 @@
 
 pub(crate) mod exr;
 pub(crate) mod kernel_csv;
+pub(crate) mod legend;
 #[cfg(feature = "render")]
 pub(crate) mod mitsuba;
 pub(crate) mod npz;
@@ -31,6 +32,7 @@ pub use exr::{
     read_stokes_image, read_stokes_map, write_stokes_image, write_stokes_map, StokesPixels,
 };
 pub use kernel_csv::read_kernel_csv;
+pub use legend::{tick_label, ColourBar, Legend, LEGEND_MIN_WIDTH};
 #[cfg(feature = "render")]
 pub use mitsuba::{export_mitsuba, MitsubaExport, ENVMAP_ROWS};
 pub use npz::{read_isotropic_npz, read_psh_npz, write_isotropic_npz, write_npy, write_psh_npz};
@@ -38,7 +40,8 @@ pub use npz::{read_isotropic_npz, read_psh_npz, write_isotropic_npz, write_npy, 
 pub use obj::read_obj;
 pub use output::{all_or_nothing, refuse_input, write_file, write_text};
 pub use png::{
-    diverging, srgb8, write_map_pngs, write_matrix_png, write_png, write_stokes_pngs, UNPHYSICAL,
+    diverging, srgb8, write_map_pngs, write_matrix_png, write_png, write_stokes_pngs, PictureNotes,
+    UNPHYSICAL,
 };
 #[cfg(feature = "render")]
 pub use scene_file::{data_dir, load_scene, scene_settings, SOURCE_LMAX};

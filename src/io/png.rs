@@ -12,12 +12,17 @@
 //!   angle of polarization `chi = atan2(s2, s1) / 2` as hue (red at `chi = -90` degrees
 //!   through the colour circle to `+90`), brightness the degree of polarization.
 //!
+//! Each picture has its legend in a strip under it ([`Legend`]): what it shows, a colour
+//! bar with the values of its ticks, and the colours of their own with how many pixels
+//! have them.
+//!
 //! Texels off a cube cross are black. Texels that break PSH (70) (`s0 >= |(s1, s2, s3)|`,
 //! which band-limited light can break) get a colour of their own instead of being clipped
 //! into "dark" or "unpolarized": [`UNPHYSICAL`] (magenta) in `s0` where a channel has
 //! `s0 < 0`, and in the degree of polarization where the luminance's `s0 < 0` or its DoP
 //! exceeds 1; white (which the fully saturated hues never are) in the angle picture there.
 
+use super::legend::{tick_label, Legend};
 use super::texels::{check_stokes_output, StokesTexels};
 use super::{io_error, malformed};
 use crate::error::{Error, Result};
@@ -124,29 +129,57 @@ fn luminance(texels: &StokesTexels, i: usize) -> [f64; 4] {
     lum
 }
 
-/// Writes `{prefix}_s0.png`, `_s1`, `_s2`, `_s3`, `_dop` and `_aop` for `map`; returns
-/// the paths.
+/// What the legends under a set of Stokes pictures say besides their colour bars.
+#[derive(Clone, Copy, Debug)]
+pub struct PictureNotes<'a> {
+    /// Appended to every title (e.g. the scene's name; may be empty).
+    pub title: &'a str,
+    /// The frames of `s1..s3` (e.g. "in the camera's frames").
+    pub frames: &'a str,
+    /// Names of side-by-side panels of equal width, left to right (empty: one picture).
+    pub panels: &'a [&'a str],
+}
+
+impl PictureNotes<'_> {
+    /// `base`, then the notes' title after a comma when there is one.
+    fn titled(&self, base: &str) -> String {
+        match self.title {
+            "" => base.to_string(),
+            t => format!("{base}, {t}"),
+        }
+    }
+}
+
+/// Writes `{prefix}_s0.png`, `_s1`, `_s2`, `_s3`, `_dop` and `_aop` for `map`, each with
+/// its legend ([`Legend`]); returns the paths.
 pub fn write_map_pngs(map: &StokesMap, prefix: impl AsRef<Path>) -> Result<Vec<PathBuf>> {
     let layout = map.layout();
     let on: Vec<bool> = (0..layout.len())
         .map(|i| layout.solid_angle(i) > 0.0)
         .collect();
     let texels = StokesTexels::in_psh_frames(map.channels(), layout.len())?;
-    write_texel_pngs(texels, &on, layout.width(), layout.height(), prefix)
+    let notes = PictureNotes {
+        title: "",
+        frames: "in the map's stored frames (docs/conventions.md)",
+        panels: &[],
+    };
+    write_texel_pngs(texels, &on, layout.width(), layout.height(), notes, prefix)
 }
 
 /// Writes `{prefix}_s0.png`, `_s1`, `_s2`, `_s3`, `_dop` and `_aop` for an image of
 /// `w x h` pixels (row-major) given per channel (1 or 3) as Stokes components in the
-/// frames they are stored in; pixels where `on` is false are black. Returns the paths.
+/// frames they are stored in; pixels where `on` is false are black; legends as `notes`
+/// say. Returns the paths.
 pub fn write_stokes_pngs(
     stored: &[Vec<[f64; 4]>],
     on: &[bool],
     w: usize,
     h: usize,
+    notes: PictureNotes,
     prefix: impl AsRef<Path>,
 ) -> Result<Vec<PathBuf>> {
     let texels = StokesTexels::stored(stored, w.saturating_mul(h))?;
-    write_texel_pngs(texels, on, w, h, prefix)
+    write_texel_pngs(texels, on, w, h, notes, prefix)
 }
 
 /// The pictures of [`write_stokes_pngs`], after the budget check
@@ -156,6 +189,7 @@ fn write_texel_pngs(
     on: &[bool],
     w: usize,
     h: usize,
+    notes: PictureNotes,
     prefix: impl AsRef<Path>,
 ) -> Result<Vec<PathBuf>> {
     let n = texels.len();
@@ -169,30 +203,64 @@ fn write_texel_pngs(
             .collect()
     };
     let mut out = Vec::new();
-    let mut save = |name: &str, pixel: &dyn Fn(usize) -> [u8; 3]| -> Result<()> {
+    let mut save = |name: &str, legend: Legend, pixel: &dyn Fn(usize) -> [u8; 3]| -> Result<()> {
         let mut file = prefix.as_ref().as_os_str().to_owned();
         file.push(format!("_{name}.png"));
         let path = PathBuf::from(file);
         let rgb: Vec<[u8; 3]> = (0..n)
             .map(|i| if on[i] { pixel(i) } else { [0; 3] })
             .collect();
-        write_png(&path, w, h, &rgb)?;
+        legend.write_png(&path, w, h, &rgb)?;
         out.push(path);
         Ok(())
     };
+    let count = |flagged: &dyn Fn(usize) -> bool| (0..n).filter(|&i| on[i] && flagged(i)).count();
+    let grey = |t: f64| [srgb8(t); 3];
 
-    let exposure = 1.0 / quantile_abs(&on_values(0), 0.99);
+    let white = quantile_abs(&on_values(0), 0.99);
     let negative = |i: usize| (0..texels.channels()).any(|c| texels.get(c, i)[0] < 0.0);
-    save("s0", &|i| match texels.channels() {
+    let mut legend = Legend::bar(
+        notes.titled(
+            "s0, intensity (linear, sRGB-encoded; white: the 99th percentile of the luminance)",
+        ),
+        &grey,
+        vec![
+            (0.0, "0".into()),
+            (0.5, tick_label(0.5 * white)),
+            (1.0, tick_label(white)),
+        ],
+    )
+    .panels(notes.panels);
+    let negatives = count(&negative);
+    if negatives > 0 {
+        legend = legend.flag(
+            UNPHYSICAL,
+            format!("s0 < 0 in a channel (breaks PSH (70)): {negatives} pixels"),
+        );
+    }
+    save("s0", legend, &|i| match texels.channels() {
         _ if negative(i) => UNPHYSICAL,
-        3 => [0, 1, 2].map(|c| srgb8(exposure * texels.get(c, i)[0])),
-        _ => [srgb8(exposure * lum[i][0]); 3],
+        3 => [0, 1, 2].map(|c| srgb8(texels.get(c, i)[0] / white)),
+        _ => [srgb8(lum[i][0] / white); 3],
     })?;
     let scale = (1..4)
         .map(|p| quantile_abs(&on_values(p), 0.99))
         .fold(0.0f64, f64::max);
+    let signed = |t: f64| diverging(2.0 * t - 1.0);
     for p in 1..4 {
-        save(&format!("s{p}"), &|i| diverging(lum[i][p] / scale))?;
+        let legend = Legend::bar(
+            notes.titled(&format!("s{p} of the luminance, {}", notes.frames)),
+            &signed,
+            vec![
+                (0.0, tick_label(-scale)),
+                (0.25, tick_label(-0.5 * scale)),
+                (0.5, "0".into()),
+                (0.75, tick_label(0.5 * scale)),
+                (1.0, tick_label(scale)),
+            ],
+        )
+        .panels(notes.panels);
+        save(&format!("s{p}"), legend, &|i| diverging(lum[i][p] / scale))?;
     }
     let dop = |i: usize| {
         let s = lum[i];
@@ -206,14 +274,45 @@ fn write_texel_pngs(
         let s = lum[i];
         s[0] < 0.0 || s[1].hypot(s[2]).hypot(s[3]) > s[0]
     };
-    save("dop", &|i| {
+    let broken = count(&unphysical);
+    let ticks = |labels: &[&str]| -> Vec<(f64, String)> {
+        let k = (labels.len() - 1) as f64;
+        labels
+            .iter()
+            .enumerate()
+            .map(|(i, l)| (i as f64 / k, l.to_string()))
+            .collect()
+    };
+    let mut legend = Legend::bar(
+        notes.titled("degree of polarization of the luminance"),
+        &grey,
+        ticks(&["0", "0.25", "0.5", "0.75", "1"]),
+    )
+    .panels(notes.panels);
+    if broken > 0 {
+        legend = legend.flag(
+            UNPHYSICAL,
+            format!("s0 < 0 or DoP > 1 (breaks PSH (70)): {broken} pixels"),
+        );
+    }
+    save("dop", legend, &|i| {
         if unphysical(i) {
             UNPHYSICAL
         } else {
             [srgb8(dop(i)); 3]
         }
     })?;
-    save("aop", &|i| {
+    let full = |t: f64| hue(t.min(1.0 - 1e-9), 1.0);
+    let mut legend = Legend::bar(
+        notes.titled("angle of polarization (degrees from the frames' x axis; brightness: DoP)"),
+        &full,
+        ticks(&["-90", "-45", "0", "45", "90"]),
+    )
+    .panels(notes.panels);
+    if broken > 0 {
+        legend = legend.flag([255; 3], format!("breaks PSH (70): {broken} pixels"));
+    }
+    save("aop", legend, &|i| {
         if unphysical(i) {
             return [255; 3];
         }
@@ -225,7 +324,8 @@ fn write_texel_pngs(
 
 /// Writes a heat map of `|a_ij|` for an `n x n` row-major matrix, `cell` pixels per
 /// entry, white for 0 to black for `max |a|` (as PSH Fig. 10 shows its matrices), with
-/// grey lines between the blocks of degrees `l` when `block_lines` (flat `l*l + l + m`).
+/// grey lines between the blocks of degrees `l` when `block_lines` (flat `l*l + l + m`),
+/// and a colour bar under it.
 pub fn write_matrix_png(
     path: impl AsRef<Path>,
     abs: &[f64],
@@ -256,7 +356,23 @@ pub fn write_matrix_png(
             [srgb8(v); 3]
         })
         .collect();
-    write_png(path, size, size, &rgb)
+    let shade = |t: f64| [srgb8(1.0 - t); 3];
+    let mut legend = Legend::bar(
+        format!("|entry| of the {n} x {n} matrix (row-major, white 0, black the largest)"),
+        &shade,
+        vec![
+            (0.0, "0".into()),
+            (0.5, tick_label(0.5 * max)),
+            (1.0, tick_label(max)),
+        ],
+    );
+    if block_lines {
+        legend = legend.flag(
+            [160; 3],
+            "between the blocks of degrees l (index l*l + l + m)",
+        );
+    }
+    legend.write_png(path, size, size, &rgb)
 }
 
 #[cfg(test)]
@@ -291,7 +407,14 @@ mod tests {
         for p in &paths {
             let dec = ::png::Decoder::new(std::fs::File::open(p).unwrap());
             let info = dec.read_info().unwrap().info().clone();
-            assert_eq!((info.width, info.height), (32, 24), "{}", p.display());
+            // The picture on top, padded to the legend's width, the legend under it.
+            assert_eq!(
+                info.width as usize,
+                crate::io::LEGEND_MIN_WIDTH,
+                "{}",
+                p.display()
+            );
+            assert!(info.height > 24 + 40, "{}", p.display());
         }
         let e = write_png(dir.join("no/such/dir.png"), 1, 1, &[[0; 3]]).unwrap_err();
         assert!(e.to_string().contains("dir.png"), "{e}");
@@ -308,7 +431,12 @@ mod tests {
             [-0.5, 0.0, 0.0, 0.0],
             [1.0, 0.0, 2.0, 0.0],
         ]];
-        let paths = write_stokes_pngs(&image, &[true; 3], 3, 1, dir.join("f")).unwrap();
+        let notes = PictureNotes {
+            title: "a test",
+            frames: "in some frames",
+            panels: &[],
+        };
+        let paths = write_stokes_pngs(&image, &[true; 3], 3, 1, notes, dir.join("f")).unwrap();
         let pixels = |name: &str| -> Vec<[u8; 3]> {
             let p = paths.iter().find(|p| p.ends_with(name)).unwrap();
             let mut reader = ::png::Decoder::new(std::fs::File::open(p).unwrap())

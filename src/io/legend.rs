@@ -1,0 +1,268 @@
+//! What a picture's colours mean, drawn in a strip under it: a title, the names of
+//! side-by-side panels, a colour bar with labelled ticks, and the colours of their own
+//! (such as [`super::UNPHYSICAL`]) with what they flag. Text in DejaVu Sans (the `dejavu`
+//! crate, no system font needed), drawn with `plotters`.
+
+use crate::error::{Error, Result};
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters::style::FontStyle;
+
+/// The font family of every text psh draws, registered once from the `dejavu` crate.
+pub(crate) const FONT: &str = "sans-serif";
+
+/// Registers [`FONT`] (once per process).
+pub(crate) fn register_font() -> Result<()> {
+    static REGISTERED: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    let ok = *REGISTERED.get_or_init(|| {
+        plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular()).is_ok()
+    });
+    ok.then_some(()).ok_or_else(|| Error::InvalidArgument {
+        name: "font",
+        value: "DejaVu Sans".into(),
+        reason: "the bundled font did not load".into(),
+    })
+}
+
+/// A colour bar: the colour at each `t` in `[0, 1]` (left to right) and ticks `(t, label)`.
+pub struct ColourBar<'a> {
+    pub colour: &'a dyn Fn(f64) -> [u8; 3],
+    pub ticks: Vec<(f64, String)>,
+}
+
+/// The strip under a picture.
+pub struct Legend<'a> {
+    pub title: String,
+    /// Names of side-by-side panels of equal width, left to right (empty: one picture).
+    pub panels: Vec<String>,
+    pub bar: Option<ColourBar<'a>>,
+    /// Colours of their own and what they mean (drawn as swatches).
+    pub flags: Vec<([u8; 3], String)>,
+}
+
+/// The narrowest canvas a picture with its legend gets (narrower pictures are padded
+/// with black on the right), so that the text fits.
+pub const LEGEND_MIN_WIDTH: usize = 420;
+
+const ROW: usize = 18;
+const BAR: usize = 12;
+const BACKGROUND: [u8; 3] = [32, 32, 32];
+
+impl Legend<'_> {
+    /// A legend with a title and a colour bar.
+    pub fn bar<'a>(
+        title: impl Into<String>,
+        colour: &'a dyn Fn(f64) -> [u8; 3],
+        ticks: Vec<(f64, String)>,
+    ) -> Legend<'a> {
+        Legend {
+            title: title.into(),
+            panels: Vec::new(),
+            bar: Some(ColourBar { colour, ticks }),
+            flags: Vec::new(),
+        }
+    }
+
+    /// Adds a colour of its own and its meaning.
+    pub fn flag(mut self, colour: [u8; 3], meaning: impl Into<String>) -> Self {
+        self.flags.push((colour, meaning.into()));
+        self
+    }
+
+    /// Names the side-by-side panels, left to right.
+    pub fn panels(mut self, names: &[&str]) -> Self {
+        self.panels = names.iter().map(|s| s.to_string()).collect();
+        self
+    }
+
+    /// The strip's height in pixels.
+    fn height(&self) -> usize {
+        let panels = if self.panels.is_empty() { 0 } else { ROW };
+        let bar = if self.bar.is_some() { BAR + ROW + 2 } else { 0 };
+        4 + panels + ROW + bar + self.flags.len() * ROW + 4
+    }
+
+    /// The picture `rgb` (`w x h`, row-major) above its legend, on a canvas at least
+    /// [`LEGEND_MIN_WIDTH`] wide: the pixels and the canvas' width and height. The
+    /// picture's pixels are unchanged (row `r`, column `c` at `r * width + c`).
+    pub fn compose(
+        &self,
+        rgb: &[[u8; 3]],
+        w: usize,
+        h: usize,
+    ) -> Result<(Vec<[u8; 3]>, usize, usize)> {
+        crate::error::check_len("picture pixels", w.saturating_mul(h), rgb.len())?;
+        let width = w.max(LEGEND_MIN_WIDTH);
+        let strip_h = self.height();
+        let too_big = || Error::InvalidArgument {
+            name: "picture size",
+            value: format!("{w}x{h}"),
+            reason: "a picture with its legend is at most 2^31 pixels on a side".into(),
+        };
+        let (w32, h32) = (
+            u32::try_from(width).map_err(|_| too_big())?,
+            u32::try_from(strip_h).map_err(|_| too_big())?,
+        );
+        let mut strip = vec![0u8; width * strip_h * 3];
+        self.draw(&mut strip, w32, h32, w)?;
+        let mut out = Vec::with_capacity(width * (h + strip_h));
+        for row in rgb.chunks_exact(w.max(1)).take(h) {
+            out.extend_from_slice(row);
+            out.extend(std::iter::repeat_n([0u8; 3], width - w));
+        }
+        out.extend(strip.chunks_exact(3).map(|c| [c[0], c[1], c[2]]));
+        Ok((out, width, h + strip_h))
+    }
+
+    /// Draws the strip into `buf` (`width x height` RGB bytes); the picture above is
+    /// `picture_w` wide (the panels divide it).
+    fn draw(&self, buf: &mut [u8], width: u32, height: u32, picture_w: usize) -> Result<()> {
+        register_font()?;
+        let err = |e: &dyn std::fmt::Display| Error::InvalidArgument {
+            name: "legend",
+            value: self.title.clone(),
+            reason: format!("drawing failed: {e}"),
+        };
+        let root = BitMapBackend::with_buffer(buf, (width, height)).into_drawing_area();
+        let [r, g, b] = BACKGROUND;
+        root.fill(&RGBColor(r, g, b)).map_err(|e| err(&e))?;
+        let text = |size: u32, h: HPos| {
+            TextStyle::from((FONT, size).into_font())
+                .color(&WHITE)
+                .pos(Pos::new(h, VPos::Top))
+        };
+        let mut y = 4i32;
+        if !self.panels.is_empty() {
+            let each = picture_w as f64 / self.panels.len() as f64;
+            for (k, name) in self.panels.iter().enumerate() {
+                let x = ((k as f64 + 0.5) * each) as i32;
+                root.draw(&Text::new(name.as_str(), (x, y), text(12, HPos::Center)))
+                    .map_err(|e| err(&e))?;
+            }
+            y += ROW as i32;
+        }
+        root.draw(&Text::new(
+            self.title.as_str(),
+            (8, y),
+            text(13, HPos::Left),
+        ))
+        .map_err(|e| err(&e))?;
+        y += ROW as i32;
+        if let Some(bar) = &self.bar {
+            let (x0, x1) = (10i32, width as i32 - 10);
+            for x in x0..=x1 {
+                let t = f64::from(x - x0) / f64::from((x1 - x0).max(1));
+                let [r, g, b] = (bar.colour)(t);
+                root.draw(&PathElement::new(
+                    vec![(x, y), (x, y + BAR as i32 - 1)],
+                    RGBColor(r, g, b),
+                ))
+                .map_err(|e| err(&e))?;
+            }
+            for (t, label) in &bar.ticks {
+                let x = x0 + (t.clamp(0.0, 1.0) * f64::from(x1 - x0)).round() as i32;
+                root.draw(&PathElement::new(
+                    vec![(x, y + BAR as i32), (x, y + BAR as i32 + 3)],
+                    WHITE,
+                ))
+                .map_err(|e| err(&e))?;
+                let anchor = if *t <= 0.0 {
+                    HPos::Left
+                } else if *t >= 1.0 {
+                    HPos::Right
+                } else {
+                    HPos::Center
+                };
+                let at = (x, y + BAR as i32 + 5);
+                root.draw(&Text::new(label.as_str(), at, text(11, anchor)))
+                    .map_err(|e| err(&e))?;
+            }
+            y += (BAR + ROW + 2) as i32;
+        }
+        for ([r, g, b], meaning) in &self.flags {
+            root.draw(&Rectangle::new(
+                [(10, y + 2), (22, y + 14)],
+                RGBColor(*r, *g, *b).filled(),
+            ))
+            .map_err(|e| err(&e))?;
+            root.draw(&Rectangle::new([(10, y + 2), (22, y + 14)], WHITE))
+                .map_err(|e| err(&e))?;
+            root.draw(&Text::new(
+                meaning.as_str(),
+                (30, y + 2),
+                text(12, HPos::Left),
+            ))
+            .map_err(|e| err(&e))?;
+            y += ROW as i32;
+        }
+        root.present().map_err(|e| err(&e))
+    }
+
+    /// Writes the picture with its legend as an 8-bit RGB PNG ([`super::write_png`]).
+    pub fn write_png(
+        &self,
+        path: impl AsRef<std::path::Path>,
+        w: usize,
+        h: usize,
+        rgb: &[[u8; 3]],
+    ) -> Result<()> {
+        let (pixels, width, height) = self.compose(rgb, w, h)?;
+        super::png::write_png(path, width, height, &pixels)
+    }
+}
+
+/// A tick label: four significant digits, in exponent form outside `[0.01, 10^4)`.
+pub fn tick_label(x: f64) -> String {
+    let a = x.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if (0.01..1e4).contains(&a) {
+        let digits = (3 - a.log10().floor() as i32).max(0) as usize;
+        let s = format!("{x:.digits$}");
+        let s = if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        };
+        s
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_picture_stays_on_top_and_the_strip_holds_the_bar_and_the_flags() {
+        let picture = vec![[7u8, 8, 9]; 30 * 20];
+        let grey = |t: f64| [(255.0 * t) as u8; 3];
+        let legend = Legend::bar("a title", &grey, vec![(0.0, "0".into()), (1.0, "1".into())])
+            .flag([255, 0, 255], "flagged");
+        let (rgb, w, h) = legend.compose(&picture, 30, 20).unwrap();
+        assert_eq!(w, LEGEND_MIN_WIDTH);
+        assert_eq!(h, 20 + legend.height());
+        assert_eq!(rgb.len(), w * h);
+        for r in 0..20 {
+            assert!(rgb[r * w..r * w + 30].iter().all(|p| *p == [7, 8, 9]));
+            assert!(rgb[r * w + 30..(r + 1) * w].iter().all(|p| *p == [0; 3]));
+        }
+        let strip = &rgb[20 * w..];
+        // The bar runs from black to white; the flag's swatch and some text are there.
+        assert!(strip.contains(&[0, 0, 0]) && strip.contains(&[255, 255, 255]));
+        assert!(strip.contains(&[255, 0, 255]));
+        let e = legend.compose(&picture, 30, 21).unwrap_err();
+        assert!(e.to_string().contains("picture pixels"), "{e}");
+    }
+
+    #[test]
+    fn tick_labels_are_short() {
+        assert_eq!(tick_label(0.0), "0");
+        assert_eq!(tick_label(0.5), "0.5");
+        assert_eq!(tick_label(-0.01234), "-0.01234");
+        assert_eq!(tick_label(123.456), "123.5");
+        assert_eq!(tick_label(1.5e-5), "1.500e-5");
+        assert_eq!(tick_label(90.0), "90");
+    }
+}
