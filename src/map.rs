@@ -12,6 +12,7 @@ use crate::geometry::image_grid::{CubeCross, Equirect, PixelGrid};
 use crate::polarized::{
     project_cube_map, project_image, reconstruct_image, Codomain, FieldArgument, PshVector,
 };
+use crate::stokes::{StokesComponents, StokesVector};
 
 /// The pixel layout of a map.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -67,6 +68,15 @@ impl MapLayout {
         match self {
             Self::CubeCross(g) => project_cube_map(g, channels, codomain, lmax),
             Self::Equirect(g) => project_image(g, &self.frame_field(), channels, codomain, lmax),
+        }
+    }
+
+    /// The texel containing the direction `w` (`None` for zero or non-finite `w`):
+    /// [`CubeCross::texel_at`], [`Equirect::texel_at`].
+    pub fn texel_at(&self, w: [f64; 3]) -> Option<usize> {
+        match self {
+            Self::CubeCross(g) => g.texel_at(w),
+            Self::Equirect(g) => g.texel_at(w),
         }
     }
 
@@ -185,6 +195,38 @@ impl StokesMap {
     /// The channels, `[channel][texel] = [s0, s1, s2, s3]`.
     pub fn channels(&self) -> &[Vec<[f64; 4]>] {
         &self.channels
+    }
+
+    /// The map at its own resolution, as a field piecewise constant over texels: per
+    /// channel the components of the texel containing the unit direction `w`, in the
+    /// layout's frame at `w`. Error: `w` zero or not finite.
+    pub fn incident(&self, w: [f64; 3]) -> Result<Vec<StokesVector>> {
+        let texel = self
+            .layout
+            .texel_at(w)
+            .ok_or_else(|| Error::InvalidArgument {
+                name: "map direction",
+                value: format!("{w:?}"),
+                reason: "a finite non-zero direction".into(),
+            })?;
+        let frame = self.frame_field().frame(w)?;
+        self.channels
+            .iter()
+            .map(|c| Ok(StokesVector::new(StokesComponents::new(c[texel])?, frame)))
+            .collect()
+    }
+
+    /// The same map with `s1`, `s2`, `s3` set to zero (its intensity alone).
+    pub fn unpolarized(&self) -> StokesMap {
+        let channels = self
+            .channels
+            .iter()
+            .map(|c| c.iter().map(|s| [s[0], 0.0, 0.0, 0.0]).collect())
+            .collect();
+        Self {
+            layout: self.layout.clone(),
+            channels,
+        }
     }
 
     /// PSH coefficients of `l <= lmax` (projection PSH (32) by the texel-wise quadrature of

@@ -173,3 +173,76 @@ fn a_one_position_pixel_grid_is_the_centre_render() {
         assert!(e.contains(&g.to_string()), "{e}");
     }
 }
+
+/// A scene file's `exr` environment is the map at its own resolution
+/// (`EnvironmentSource::Map`): the export's lat-long texels are the map's texels at their
+/// directions (turned by the file's `up`); its polarization is listed as a difference
+/// unless the scene asks for the intensity alone.
+#[test]
+fn an_exr_map_environment_is_sampled_at_its_own_resolution_and_exported() {
+    use psh::map::{MapLayout, StokesMap};
+    let dir = temp("map");
+    std::fs::create_dir_all(&dir).unwrap();
+    // A cube cross of 2 x 2 faces: every texel its own intensity, some polarized.
+    let layout = MapLayout::from_image_size(6, 8).unwrap();
+    let channels: Vec<Vec<[f64; 4]>> = (0..3)
+        .map(|c| {
+            (0..48)
+                .map(|i| {
+                    let s0 = 1.0 + i as f64 + 0.25 * c as f64;
+                    [s0, 0.1 * s0, 0.0, 0.0]
+                })
+                .collect()
+        })
+        .collect();
+    let map = StokesMap::new(layout.clone(), channels).unwrap();
+    psh::io::write_stokes_map(&map, dir.join("map_s%d.exr")).unwrap();
+    let text = std::fs::read_to_string("scenes/mitsuba_sphere.toml").unwrap();
+    let at = text.find("[camera]").unwrap();
+    for unpolarized in [false, true] {
+        let scene_text = format!(
+            "[environment]\ntype = \"exr\"\npath = \"{}\"\nup = \"y\"\n\n{}",
+            dir.join("map_s%d.exr").display(),
+            text[at..].replace(
+                "[settings]\n",
+                &format!("[settings]\nunpolarized_environment = {unpolarized}\n")
+            )
+        );
+        let file = dir.join("scene.toml");
+        std::fs::write(&file, scene_text).unwrap();
+        let (scene, _) = load_scene(&file, 4).unwrap();
+        let psh::pprt::EnvironmentSource::Map { to_world, .. } = scene.source() else {
+            panic!("an exr environment is a map source")
+        };
+        let to_world = *to_world;
+        let out = dir.join("export");
+        let export = export_mitsuba(&scene, &out, 4, 16).unwrap();
+        assert_eq!(
+            export.differences.iter().any(|d| d.contains("unpolarized")),
+            !unpolarized,
+            "{:?}",
+            export.differences
+        );
+        let image = exr::prelude::read_first_rgba_layer_from_file(
+            out.join("environment.exr"),
+            |size, _| vec![[0f32; 3]; size.0 * size.1],
+            |px: &mut Vec<[f32; 3]>, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+                px[pos.1 * 32 + pos.0] = [r, g, b]
+            },
+        )
+        .unwrap();
+        let texels = &image.layer_data.channel_data.pixels;
+        for (r, k) in [(0, 0), (3, 5), (8, 31), (15, 17)] {
+            let theta = std::f64::consts::PI * r as f64 / 15.0;
+            let phi = 2.0 * std::f64::consts::PI * (k as f64 + 0.5) / 32.0;
+            let w = nalgebra::Vector3::from(psh::geometry::direction(theta, phi));
+            let local = to_world.inverse_transform_vector(&w);
+            let i = layout.texel_at(local.into()).unwrap();
+            for (c, got) in texels[r * 32 + k].iter().enumerate() {
+                let expect = (1.0 + i as f64 + 0.25 * c as f64) as f32;
+                assert_eq!(*got, expect, "texel ({r}, {k}) channel {c}");
+            }
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -644,3 +644,42 @@ fn mismatched_runtime_inputs_are_errors() {
         .unwrap_err();
     assert!(e.to_string().contains("workspace"), "{e}");
 }
+
+/// A map source ([`EnvironmentSource::Map`], sampled at its own resolution) turned into
+/// the world agrees with its coefficients turned the same way ([`PshVector::rotated`],
+/// as scene files turn `.npz` vectors): at the world direction of every texel centre of
+/// a map reconstructed from coefficients, both give that texel's Stokes vector (compared
+/// in one frame), for a cube cross and an equirectangular map, polarized.
+#[test]
+fn a_map_source_turns_as_its_coefficients() {
+    use psh::geometry::PixelGrid;
+    use psh::map::{MapLayout, StokesMap};
+    use psh::polarized::{Codomain, PshEvaluator};
+    use psh::pprt::EnvironmentSource;
+    let v = psh::testing::random_psh(6, Codomain::Full, 3, 11).unwrap();
+    let turn = nalgebra::Rotation3::from_euler_angles(0.3, -1.1, 2.0);
+    let turned = v.rotated(&turn).unwrap();
+    let mut evaluator = PshEvaluator::new(6).unwrap();
+    for (h, w) in [(24, 32), (16, 32)] {
+        let map = StokesMap::reconstruct(&v, MapLayout::from_image_size(h, w).unwrap()).unwrap();
+        let layout = map.layout().clone();
+        let source = EnvironmentSource::Map {
+            map,
+            to_world: turn,
+        };
+        let mut worst = 0.0f64;
+        for i in (0..layout.len()).filter(|&i| layout.solid_angle(i) > 0.0) {
+            let w = (turn * nalgebra::Vector3::from(layout.direction(i))).into();
+            let from_map = source.incident(&mut evaluator, w).unwrap();
+            let from_coefficients = evaluator.evaluate_all(&turned, w).unwrap();
+            for (a, b) in from_map.iter().zip(&from_coefficients) {
+                let a = a.components_in(b.frame()).unwrap().to_array();
+                let b = b.components().to_array();
+                for k in 0..4 {
+                    worst = worst.max((a[k] - b[k]).abs());
+                }
+            }
+        }
+        assert!(worst < 1e-11, "{h} x {w}: {worst:e}");
+    }
+}

@@ -20,6 +20,7 @@ PPRT samples pixel centres: its rows are compared over the pixels whose neighbou
 within 2 pixels see the same object (`render_object.exr`).
 """
 
+import os
 import pathlib
 import time
 import tomllib
@@ -30,9 +31,16 @@ import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 SCENES = {"sphere": ROOT / "scenes" / "mitsuba_sphere.toml",
-          "sky": ROOT / "scenes" / "mitsuba_sky.toml"}
+          "sky": ROOT / "scenes" / "mitsuba_sky.toml",
+          "buddha": ROOT / "scenes" / "mitsuba_buddha.toml"}
 SPP = 1024  # Mitsuba's samples per pixel
 DIRECTIONS, GRID = 64, 4  # psh's reference: 64 directions at 4 x 4 positions per pixel
+# Buddha: the reference's BSDF-sampled estimate is noisier than Mitsuba's (which samples
+# the bright opening of the environment map too), so 256 directions; the cube map exported
+# at 1024 rows (its 64-texel faces within a fifth of a texel; at 256 rows the background's
+# mean is 1.3% off).
+SETTINGS = {"buddha": dict(directions=256, env_rows=1024)}
+DATA = pathlib.Path(os.environ.get("PSH_DATA_DIR") or ROOT.parent / "shared" / "data")
 LADDER = [2, 3, 4, 6, 8, 10]
 
 mi.set_variant("scalar_spectral_polarized")
@@ -78,9 +86,13 @@ def rmse(a, b, mask):
     return [float(np.sqrt(((a[p] - b[p])[mask] ** 2).mean())) for p in range(4)]
 
 
-def compare_scene(psh, record, key):
+def compare_scene(psh, record, key, checked_means=True):
+    """The scene's renders against Mitsuba's; with `checked_means` the mean s0 over each
+    object is a check (within 1%), else a measurement in the table."""
     path = SCENES[key]
-    export = psh.run("export-mitsuba", "--scene", path, "--spp", SPP,
+    directions = SETTINGS.get(key, {}).get("directions", DIRECTIONS)
+    env_rows = SETTINGS.get(key, {}).get("env_rows", 256)
+    export = psh.run("export-mitsuba", "--scene", path, "--spp", SPP, "--env-rows", env_rows,
                      "--out", psh.path(f"mitsuba_{key}"))
     assert export["differences"] == [], export["differences"]
     xml = pathlib.Path(export["files"][0])
@@ -92,7 +104,7 @@ def compare_scene(psh, record, key):
     sigma = [x / np.sqrt(2) for x in rmse(m1, m2, everywhere)]
 
     ref = psh.path(f"mitsuba_{key}_reference")
-    meta = psh.run("render", "--scene", path, "--reference", DIRECTIONS, "--pixel-grid", GRID,
+    meta = psh.run("render", "--scene", path, "--reference", directions, "--pixel-grid", GRID,
                    "--json", "--out", ref)
     r = psh_stokes(ref)
     obj = objects(ref)
@@ -109,6 +121,8 @@ def compare_scene(psh, record, key):
         a, b = r[0][mask].mean(axis=0), m1[0][mask].mean(axis=0)
         means[k] = (a, b)
         what = "the environment" if k == 0 else f"object {k - 1}"
+        if k > 0 and not checked_means:
+            continue
         # Background: Mitsuba's RGB -> spectrum -> RGB round trip of its emitters.
         record(f"{key}: psh reference vs Mitsuba 3, mean s0 over {what} (bias, worst channel)",
                "mitsuba", float(np.abs(a / b - 1).max()), 1e-2, measure="relative difference")
@@ -120,8 +134,9 @@ def compare_scene(psh, record, key):
         for l in LADDER:
             l_low, l_high = (l, 0) if setting == "low_only" else (min(l, 4), l if l > 4 else 0)
             out = psh.path(f"mitsuba_{key}_pprt_{setting}_{l}")
+            # The transport's own output, as bench-error's rows (no valid-range projection).
             report = psh.run("render", "--scene", path, "--l-low", l_low, "--l-high", l_high,
-                             "--json", "--out", out)
+                             "--no-valid-range", "--json", "--out", out)
             pprt = psh_stokes(out)
             e = rmse(pprt, m1, inner)
             times = report["times_s"]
@@ -143,8 +158,8 @@ def compare_scene(psh, record, key):
     row = next(x for x in bench["rows"] if x["setting"] == "low_only" and x["l_max"] == 4)
     # bench-error's rows keep everything (no plan: the convex sphere keeps its rays).
     same = psh.path(f"mitsuba_{key}_pprt_no_plan_4")
-    psh.run("render", "--scene", path, "--l-low", 4, "--l-high", 0, "--no-plan", "--json",
-            "--out", same)
+    psh.run("render", "--scene", path, "--l-low", 4, "--l-high", 0, "--no-plan",
+            "--no-valid-range", "--json", "--out", same)
     here = rmse(psh_stokes(same), m1, obj > 0)
     record(f"{key}: psh bench-error --ground-truth on Mitsuba's EXR vs the same RMSE here, "
            "PPRT low-only l = 4, s0..s2 (relative)", "mitsuba",
@@ -152,6 +167,7 @@ def compare_scene(psh, record, key):
            measure="relative difference",
            detail="layers S0..S3 read in psh's camera frames, rows top first")
     return dict(key=key, export=export, sigma=sigma, to_ref=to_ref, meta=meta, rows=rows,
+                directions=directions,
                 total=total, means=means, t_mi=t_mi, inner=int(inner.sum()),
                 pixels=int(everywhere.sum()), ref_inner=rmse(r, m1, inner))
 
@@ -162,7 +178,7 @@ def table(result):
         "|---|---|---|---|---|---|---|---|---|",
         "| Mitsuba 3 (its own noise, sigma; every pixel) | | "
         + " | ".join(f"{x:.4f}" for x in result["sigma"][:3]) + " | 0 | | | |",
-        f"| psh reference, {DIRECTIONS} x {GRID * GRID} samples (every pixel) | | "
+        f"| psh reference, {result['directions']} x {GRID * GRID} samples (every pixel) | | "
         + " | ".join(f"{x:.4f}" for x in result["to_ref"])
         + f" | {result['meta']['seconds']:.2f} | | |",
         "| psh reference (interior pixels) | | "
@@ -205,7 +221,8 @@ def test_fig19_against_mitsuba(psh, record):
         f"{mi.__version__} (`scalar_spectral_polarized`, `stokes(path, max_depth 2)`, {SPP} "
         "spp, box filter, 2 threads), by psh's reference (`render --reference "
         f"{DIRECTIONS} --pixel-grid {GRID}`: {DIRECTIONS} directions at {GRID} x {GRID} "
-        "positions per pixel, a box filter) and by PPRT (pixel centres; compared over the "
+        "positions per pixel, a box filter) and by PPRT (pixel centres, the transport's own "
+        "output without the valid-range projection, as `psh bench-error`; compared over the "
         "pixels whose neighbours within 2 pixels see the same object). RMSE per Stokes "
         "component, RGB, in the camera's frames (x image-right, y image-up, z towards the "
         "camera in both). No normalization: the environment's mean s0 measures Mitsuba's "
@@ -262,9 +279,33 @@ def test_fig19_against_mitsuba(psh, record):
         "recover part of it): an open finding of issue 24 (item 5). The plane's mean is "
         "within 0.1% since the mirrored outputs (3.5% too bright before).",
         "",
-        "Not yet compared here (issue 24): buddha on the plane under sponza (a measured "
-        "environment as an EXR map), a conductor of an index differing per channel (an RGB "
-        "index is upsampled to a spectrum in Mitsuba's spectral variants).",
+    ]
+    if (DATA / "polarsh" / "buddha.obj").exists():
+        # Buddha's mean s0 is about 1% above Mitsuba's (an open finding, below): measured
+        # in the table, not checked; its pixels are checked within Mitsuba's noise.
+        buddha = compare_scene(psh, record, "buddha", checked_means=False)
+        lines += [
+            f"## {SCENES['buddha'].name}: buddha on the plane under the Sponza cube map",
+            "",
+        ] + table(buddha) + [
+            "",
+            "Objects: 0 buddha (a GGX conductor of one index in every channel standing in for "
+            "the measured gold), 1 the plane (plastic). The environment is the shared "
+            "Sponza cube map (64 x 64 faces, its intensity), which psh's background and "
+            "reference sample at its own resolution (`EnvironmentSource::Map`) and the "
+            "export writes as a 2048 x 1024 lat-long map. The reference agrees with Mitsuba "
+            "pixel by pixel within Mitsuba's noise and on the background's and the plane's "
+            "means, but its mean s0 over buddha is about 1% above Mitsuba's (0.7% over "
+            "interior pixels, more in the brightest highlights), with 64 or 256 directions "
+            "and with the map exported at 256 or 1024 rows: not explained yet (open in "
+            "issue 24; suspects: shadow-ray offsets on the fine mesh, shading normals).",
+            "",
+        ]
+    else:
+        lines += [f"Buddha under Sponza: skipped, no shared data at {DATA}.", ""]
+    lines += [
+        "Not compared here: a conductor of an index differing per channel (an RGB index is "
+        "upsampled to a spectrum in Mitsuba's spectral variants).",
         "",
     ]
     (ROOT / "docs" / "mitsuba.md").write_text("\n".join(lines))

@@ -206,7 +206,7 @@ fn prepare_output(scene: &Scene, out: &Path) -> Result<()> {
 /// The legends of a render's pictures (the frames of [`crate::pprt::render_frame`]).
 const CAMERA_NOTES: PictureNotes = PictureNotes {
     title: "",
-    frames: "in the camera's frames (x image-right, y image-up)",
+    frames: "camera frames (x right, y up)",
     panels: &[],
 };
 
@@ -438,7 +438,7 @@ fn write_polarizer_png(image: &StokesImage, deg: f64, out: &Path) -> Result<Path
     let white = 0.5 / exposure;
     let grey = |t: f64| [srgb8(t); 3];
     let mut legend = Legend::bar(
-        format!("through a linear polarizer at {deg} degrees (from image-right towards image-up)"),
+        format!("through a polarizer at {deg} deg (right towards up)"),
         &grey,
         vec![
             (0.0, "0".into()),

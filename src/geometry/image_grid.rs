@@ -155,6 +155,42 @@ impl CubeCross {
         4 * self.edge
     }
 
+    /// The texel containing the direction `w` (any length; `None` for zero or non-finite):
+    /// the face whose forward axis has the largest component of `w` (the first of `x`, `y`,
+    /// `z` on a tie), and on it the texel whose rectangle holds `(a, b) = (w.r, w.u) / w.f`
+    /// (the inverse of the module's texel map; a point on a texel edge goes to the texel
+    /// right of it or below it).
+    pub fn texel_at(&self, w: [f64; 3]) -> Option<usize> {
+        let abs = w.map(f64::abs);
+        if !abs.iter().all(|x| x.is_finite()) || abs.iter().all(|&x| x == 0.0) {
+            return None;
+        }
+        let axis = if abs[0] >= abs[1] && abs[0] >= abs[2] {
+            0
+        } else if abs[1] >= abs[2] {
+            1
+        } else {
+            2
+        };
+        let face = match (axis, w[axis] > 0.0) {
+            (0, true) => CubeFace::Right,
+            (0, false) => CubeFace::Left,
+            (1, true) => CubeFace::Front,
+            (1, false) => CubeFace::Back,
+            (_, true) => CubeFace::Up,
+            (_, false) => CubeFace::Down,
+        };
+        let (f, r, u) = face.basis();
+        let dot = |v: [f64; 3]| w[0] * v[0] + w[1] * v[1] + w[2] * v[2];
+        let d = dot(f);
+        let (a, b) = (dot(r) / d, dot(u) / d);
+        let e = self.edge;
+        let cell = |t: f64| ((0.5 * t * e as f64).floor() as usize).min(e - 1);
+        let (j, i) = (cell(a + 1.0), cell(1.0 - b));
+        let (block_row, block_col) = face.block();
+        Some((block_row * e + i) * self.width() + block_col * e + j)
+    }
+
     /// The face and face coordinates `(a0, a1, b0, b1)` (texel rectangle on the unit-distance
     /// plane, `a` to the right, `b` up) of image texel `i`, or `None` off the cross.
     pub fn texel(&self, i: usize) -> Option<(CubeFace, [f64; 4])> {
@@ -230,6 +266,20 @@ impl Equirect {
             });
         }
         Ok(Self { height, width })
+    }
+
+    /// The texel containing the direction `w` (any length; `None` for zero or non-finite):
+    /// row `floor(theta H / pi)`, column `floor(phi W / 2 pi)` (the last row and column
+    /// take `theta = pi`, `phi` rounded to `2 pi`).
+    pub fn texel_at(&self, w: [f64; 3]) -> Option<usize> {
+        if !w.iter().all(|x| x.is_finite()) || w.iter().all(|&x| x == 0.0) {
+            return None;
+        }
+        let theta = w[0].hypot(w[1]).atan2(w[2]);
+        let phi = w[1].atan2(w[0]).rem_euclid(2.0 * PI);
+        let row = ((theta / PI * self.height as f64).floor() as usize).min(self.height - 1);
+        let col = ((phi / (2.0 * PI) * self.width as f64).floor() as usize).min(self.width - 1);
+        Some(row * self.width + col)
     }
 
     /// `(theta, phi)` of the centre of texel `i`.
@@ -313,6 +363,71 @@ mod tests {
             assert!(dist((e + k) * w + 2 * e - 1, (e + k) * w + 2 * e) < 1.5 * step);
             // Back right column / Left left column (wrap around).
             assert!(dist((e + k) * w + 4 * e - 1, (e + k) * w) < 1.5 * step);
+        }
+    }
+
+    /// `texel_at` inverts `direction` on every texel of the cross and of an
+    /// equirectangular grid, and puts random directions (and the poles, the axes, face
+    /// edges and the azimuth seam) in the texel whose rectangle holds them.
+    #[test]
+    fn texel_at_finds_the_texel_holding_a_direction() {
+        let g = CubeCross::new(7).unwrap();
+        for i in (0..g.len()).filter(|&i| g.texel(i).is_some()) {
+            assert_eq!(g.texel_at(g.direction(i)), Some(i), "{i}");
+        }
+        let q = Equirect::new(9, 18).unwrap();
+        for i in 0..q.len() {
+            assert_eq!(q.texel_at(q.direction(i)), Some(i), "{i}");
+        }
+        let r = crate::random::pseudo_random(3 * 4000, 5);
+        let mut dirs: Vec<[f64; 3]> = r
+            .chunks_exact(3)
+            .map(|c| [c[0] - 0.5, c[1] - 0.5, c[2] - 0.5])
+            .collect();
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        dirs.extend([
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, -1.0],
+            [1.0, 0.0, 0.0],
+            [-1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [s, s, 0.0],
+            [s, 0.0, -s],
+            [1.0, -1e-300, 0.3],
+            [1.0, 1.0, 1.0],
+        ]);
+        for w in dirs {
+            // Cube: the face coordinates of w lie in the texel's rectangle.
+            let i = g.texel_at(w).unwrap();
+            let (face, [a0, a1, b0, b1]) = g.texel(i).unwrap();
+            let (f, rr, u) = face.basis();
+            let dot = |v: [f64; 3]| w[0] * v[0] + w[1] * v[1] + w[2] * v[2];
+            let (a, b) = (dot(rr) / dot(f), dot(u) / dot(f));
+            assert!(dot(f) > 0.0, "{w:?}");
+            let eps = 1e-12;
+            assert!(
+                a0 - eps <= a && a <= a1 + eps && b0 - eps <= b && b <= b1 + eps,
+                "{w:?}"
+            );
+            // Equirect: the angles of w lie in the texel's row and column.
+            let i = q.texel_at(w).unwrap();
+            let (theta, phi) = crate::geometry::direction_angles({
+                let n = dot(w).sqrt();
+                w.map(|x| x / n)
+            })
+            .unwrap();
+            let (row, col) = (i / q.width, i % q.width);
+            let (dt, dp) = (PI / q.height as f64, 2.0 * PI / q.width as f64);
+            assert!(row as f64 * dt - eps <= theta && theta <= (row + 1) as f64 * dt + eps);
+            let phi = phi.rem_euclid(2.0 * PI);
+            let inside = col as f64 * dp - eps <= phi && phi <= (col + 1) as f64 * dp + eps;
+            let wrapped = col == q.width - 1 && phi < eps;
+            assert!(inside || wrapped, "{w:?} {phi} {col}");
+        }
+        for bad in [[0.0; 3], [f64::NAN, 0.0, 1.0], [f64::INFINITY, 0.0, 0.0]] {
+            assert_eq!(g.texel_at(bad), None);
+            assert_eq!(q.texel_at(bad), None);
         }
     }
 

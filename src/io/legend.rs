@@ -42,7 +42,7 @@ pub struct Legend<'a> {
 
 /// The narrowest canvas a picture with its legend gets (narrower pictures are padded
 /// with black on the right), so that the text fits.
-pub const LEGEND_MIN_WIDTH: usize = 420;
+pub const LEGEND_MIN_WIDTH: usize = 440;
 
 const ROW: usize = 18;
 const BAR: usize = 12;

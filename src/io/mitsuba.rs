@@ -290,6 +290,11 @@ fn constant_radiance(v: &PshVector) -> Option<[f64; 3]> {
 fn polarized(source: &EnvironmentSource) -> bool {
     match source {
         EnvironmentSource::Sky(sky) => sky.is_polarized(),
+        EnvironmentSource::Map { map, .. } => map
+            .channels()
+            .iter()
+            .flatten()
+            .any(|s| s[1..].iter().any(|&x| x != 0.0)),
         EnvironmentSource::Coefficients(v) => {
             let components = v.codomain().components();
             let n = components.len();

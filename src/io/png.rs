@@ -160,7 +160,7 @@ pub fn write_map_pngs(map: &StokesMap, prefix: impl AsRef<Path>) -> Result<Vec<P
     let texels = StokesTexels::in_psh_frames(map.channels(), layout.len())?;
     let notes = PictureNotes {
         title: "",
-        frames: "in the map's stored frames (docs/conventions.md)",
+        frames: "map's stored frames",
         panels: &[],
     };
     write_texel_pngs(texels, &on, layout.width(), layout.height(), notes, prefix)
@@ -220,9 +220,7 @@ fn write_texel_pngs(
     let white = quantile_abs(&on_values(0), 0.99);
     let negative = |i: usize| (0..texels.channels()).any(|c| texels.get(c, i)[0] < 0.0);
     let mut legend = Legend::bar(
-        notes.titled(
-            "s0, intensity (linear, sRGB-encoded; white: the 99th percentile of the luminance)",
-        ),
+        notes.titled("s0 (white: the luminance's 99th percentile)"),
         &grey,
         vec![
             (0.0, "0".into()),
@@ -284,7 +282,7 @@ fn write_texel_pngs(
             .collect()
     };
     let mut legend = Legend::bar(
-        notes.titled("degree of polarization of the luminance"),
+        notes.titled("DoP of the luminance"),
         &grey,
         ticks(&["0", "0.25", "0.5", "0.75", "1"]),
     )
@@ -304,7 +302,7 @@ fn write_texel_pngs(
     })?;
     let full = |t: f64| hue(t.min(1.0 - 1e-9), 1.0);
     let mut legend = Legend::bar(
-        notes.titled("angle of polarization (degrees from the frames' x axis; brightness: DoP)"),
+        notes.titled("AoLP, degrees from the frames' x (brightness: DoP)"),
         &full,
         ticks(&["-90", "-45", "0", "45", "90"]),
     )

@@ -8,7 +8,9 @@
 //! sun = "directional"           # optional: or "lobe" (the sun in the sky's PSH
 //!                               #   coefficients; pprt::Sun)
 //! # type = "npz", path = "..."  #   a PSH coefficient vector (polarsh .npz, RGB)
-//! # type = "exr", path = "map_s%d.exr"   # a polarized environment map
+//! # type = "exr", path = "map_s%d.exr"   # a polarized environment map (the background
+//!                               #   and the reference sample its texels, the transfer
+//!                               #   its projection to l_high)
 //! # type = "constant", radiance = [1.0, 1.0, 1.0]   # unpolarized, the same everywhere
 //! # up = "y"                    #   optional: the file's up axis is y (turned to +z)
 //!
@@ -278,8 +280,9 @@ fn exactly_some<'de, D: serde::Deserializer<'de>, const N: usize>(
     exactly(d).map(Some)
 }
 
-/// Band limit of a coefficient or map environment as the reference renderer's source
-/// ([`EnvironmentSource::Coefficients`]; evaluated per sample, so bounded).
+/// Band limit of a coefficient environment as the reference renderer's source
+/// ([`EnvironmentSource::Coefficients`]; evaluated per sample, so bounded). Maps are
+/// sampled at their own resolution ([`EnvironmentSource::Map`]).
 pub const SOURCE_LMAX: usize = 32;
 
 /// The shared data directory: `$PSH_DATA_DIR`, else `../shared/data`.
@@ -371,7 +374,10 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
         }
         EnvironmentSpec::Exr { path: p, up } => {
             let map = crate::io::exr::read_stokes_map(resolve(p)?)?;
-            EnvironmentSource::Coefficients(turn(&map.project(Codomain::Full, source_lmax)?, *up)?)
+            EnvironmentSource::Map {
+                map,
+                to_world: up.rotation(),
+            }
         }
         EnvironmentSpec::Constant { radiance } => EnvironmentSource::Coefficients(
             constant_environment(*radiance, source_lmax)
@@ -387,10 +393,17 @@ pub fn load_scene(path: impl AsRef<Path>, l_high: usize) -> Result<(Scene, Trans
             v.with_codomain(Codomain::Intensity)
                 .with_codomain(Codomain::Full),
         ),
+        EnvironmentSource::Map { map, to_world } => EnvironmentSource::Map {
+            map: map.unpolarized(),
+            to_world,
+        },
     };
     let environment = match &source {
         EnvironmentSource::Sky(sky) => sky.project(lmax),
         EnvironmentSource::Coefficients(v) => v.truncated(lmax),
+        EnvironmentSource::Map { map, to_world } => map
+            .project(Codomain::Full, lmax)
+            .and_then(|v| v.rotated(to_world)),
     }
     .map_err(|e| field("environment", e))?;
     let mut names = Vec::new();

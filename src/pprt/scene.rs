@@ -7,6 +7,7 @@ use super::mirrored::MirroredBelow;
 use super::sky::{RayleighSky, Sun};
 use crate::error::{Error, Result};
 use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
+use crate::map::StokesMap;
 use crate::optics::{Channel, Conductor, Lambertian, Material, PolarizedPlastic};
 use crate::polarized::{
     project_operator, FieldArgument, PshEvaluator, PshMatrix, PshVector, SpinBlock22,
@@ -17,7 +18,7 @@ use bvh::aabb::{Aabb, Bounded};
 use bvh::bounding_hierarchy::BHShape;
 use bvh::bvh::Bvh;
 use bvh::ray::Ray;
-use nalgebra::{Point3, Vector3};
+use nalgebra::{Point3, Rotation3, Vector3};
 
 /// A pBRDF of the scene, RGB.
 #[derive(Clone, Debug)]
@@ -198,15 +199,21 @@ pub struct Hit {
 pub enum EnvironmentSource {
     /// The analytic sky, evaluated exactly.
     Sky(RayleighSky),
-    /// Coefficients only (a `.npz` vector at its own band limit, or a projected map).
+    /// Coefficients only (a `.npz` vector at its own band limit, or a constant).
     Coefficients(PshVector),
+    /// A map at its own resolution ([`StokesMap::incident`]), turned into the world by
+    /// `to_world` (its direction `w` is the map's `to_world^-1 w`).
+    Map {
+        map: StokesMap,
+        to_world: Rotation3<f64>,
+    },
 }
 
 impl EnvironmentSource {
     /// The band limit an evaluator needs for [`Self::incident`] (0 for the sky).
     pub fn lmax(&self) -> usize {
         match self {
-            Self::Sky(_) => 0,
+            Self::Sky(_) | Self::Map { .. } => 0,
             Self::Coefficients(v) => v.lmax(),
         }
     }
@@ -215,7 +222,7 @@ impl EnvironmentSource {
     pub fn sun(&self) -> Option<Sun> {
         match self {
             Self::Sky(sky) => Some(sky.sun()),
-            Self::Coefficients(_) => None,
+            Self::Coefficients(_) | Self::Map { .. } => None,
         }
     }
 
@@ -224,16 +231,23 @@ impl EnvironmentSource {
     pub fn directional_lights(&self) -> Vec<DirectionalLight> {
         match self {
             Self::Sky(sky) => sky.directional_light().into_iter().collect(),
-            Self::Coefficients(_) => Vec::new(),
+            Self::Coefficients(_) | Self::Map { .. } => Vec::new(),
         }
     }
 
-    /// The light arriving from the unit direction `w` (towards its source), per channel, in
-    /// the theta-phi frame at `w`: the sky evaluated exactly, coefficients at their own
-    /// band limit by PSH (30) with `evaluator` (of band limit at least [`Self::lmax`]).
+    /// The light arriving from the unit direction `w` (towards its source), per channel:
+    /// the sky evaluated exactly, coefficients at their own band limit by PSH (30) with
+    /// `evaluator` (of band limit at least [`Self::lmax`]), a map's texel holding `w`.
     pub fn incident(&self, evaluator: &mut PshEvaluator, w: [f64; 3]) -> Result<Vec<StokesVector>> {
         match self {
             Self::Coefficients(v) => evaluator.evaluate_all(v, w),
+            Self::Map { map, to_world } => {
+                let local = to_world.inverse_transform_vector(&Vector3::from(w));
+                map.incident(local.into())?
+                    .iter()
+                    .map(|s| s.rotate(to_world))
+                    .collect()
+            }
             Self::Sky(sky) => {
                 let frame = ThetaPhiFrameField::new().frame(w)?;
                 (0..3)
