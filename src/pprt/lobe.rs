@@ -17,7 +17,44 @@ pub(crate) enum Lobe {
     Diffuse([Lambertian; 3]),
     Plastic(PolarizedPlastic),
     Conductor([Conductor; 3]),
-    Matrices(Box<[PshMatrix; 3]>),
+    Matrices(Box<Blocks>),
+}
+
+/// Coefficient matrices (RGB) as their nonzero `4 x 4` blocks `(j_o, j_i, P_{j_o j_i})`,
+/// row-major in `(p_o, p_i)`: an isotropic pBRDF's matrices are nonzero only where PSH
+/// (52), (53) allow (`m_i = +-m_o`, a few percent of the blocks at `l = 20`), so a shading
+/// point reads those alone.
+pub(crate) struct Blocks {
+    lmax: usize,
+    channels: [Vec<(usize, usize, [f64; 16])>; 3],
+}
+
+impl Blocks {
+    fn new(mats: &[PshMatrix; 3]) -> Result<Self> {
+        let lmax = mats[0].lmax();
+        if let Some(m) = mats.iter().find(|m| m.lmax() != lmax) {
+            return Err(Error::InvalidArgument {
+                name: "material matrices",
+                value: format!("band limits {} and {}", lmax, m.lmax()),
+                reason: "the three channels share one band limit".into(),
+            });
+        }
+        let n = num_coeffs(lmax);
+        let channels = std::array::from_fn(|c| {
+            mats[c]
+                .data()
+                .chunks_exact(16 * n)
+                .enumerate()
+                .flat_map(|(jo, row)| {
+                    row.chunks_exact(16).enumerate().filter_map(move |(ji, b)| {
+                        let block: [f64; 16] = b.try_into().ok()?;
+                        block.iter().any(|&x| x != 0.0).then_some((jo, ji, block))
+                    })
+                })
+                .collect()
+        });
+        Ok(Self { lmax, channels })
+    }
 }
 
 /// A lobe at one shading point (`w_o` fixed), in the shading frame.
@@ -72,19 +109,19 @@ impl Lobe {
             SceneMaterial::Diffuse(d) => Lobe::Diffuse(*d),
             SceneMaterial::Plastic(p) => Lobe::Plastic(*p),
             SceneMaterial::Conductor(c) => Lobe::Conductor(*c),
-            SceneMaterial::Matrices(mats) => Lobe::Matrices(mats.clone()),
+            SceneMaterial::Matrices(mats) => Lobe::Matrices(Box::new(Blocks::new(mats)?)),
         })
     }
 
     /// The material's coefficient matrices at band limit `l`, as Mueller fields.
     pub(crate) fn band_limited(m: &SceneMaterial, l: usize) -> Result<Self> {
-        Ok(Lobe::Matrices(Box::new(m.matrices(l)?)))
+        Ok(Lobe::Matrices(Box::new(Blocks::new(&m.matrices(l)?)?)))
     }
 
     /// The band limit of the input basis the lobe needs (0 for the analytic models).
     pub(crate) fn basis_lmax(&self) -> usize {
         match self {
-            Lobe::Matrices(m) => m[0].lmax(),
+            Lobe::Matrices(m) => m.lmax,
             _ => 0,
         }
     }
@@ -96,13 +133,13 @@ impl Lobe {
             Lobe::Plastic(p) => AtPoint::Plastic(p),
             Lobe::Conductor(m) => AtPoint::Conductor(m),
             Lobe::Matrices(m) => {
-                if basis.lmax() < m[0].lmax() {
+                if basis.lmax() < m.lmax {
                     return Err(Error::InvalidArgument {
                         name: "workspace",
                         value: format!("basis band limit {}", basis.lmax()),
                         reason: format!(
                             "the material's matrices need {} (a workspace of this reference)",
-                            m[0].lmax()
+                            m.lmax
                         ),
                     });
                 }
@@ -131,23 +168,20 @@ impl Lobe {
 pub(crate) struct Contracted([Vec<[[f64; 4]; 4]>; 3]);
 
 impl Contracted {
-    fn new(mats: &[PshMatrix; 3], yr: &[f64], y2: &[Complex64]) -> Self {
+    fn new(mats: &Blocks, yr: &[f64], y2: &[Complex64]) -> Self {
+        let n = num_coeffs(mats.lmax);
         Contracted(std::array::from_fn(|c| {
-            let p = &mats[c];
-            let n = num_coeffs(p.lmax());
             let mut a = vec![[[0.0; 4]; 4]; n];
-            for (jo, rows) in p.data().chunks_exact(16 * n).enumerate() {
-                let (y, re, im) = (yr[jo], y2[jo].re, y2[jo].im);
-                for (aj, blk) in a.iter_mut().zip(rows.chunks_exact(16)) {
-                    for (pi, ap) in aj.iter_mut().enumerate() {
-                        let c = |po: usize| blk[po * 4 + pi];
-                        // Y_{j p}: p = 0, 3 carry the real SH in s0, s3; p = 1, 2 carry
-                        // 2Y and i 2Y in s1 + i s2 (PSH (29)).
-                        ap[0] += c(0) * y;
-                        ap[1] += c(1) * re - c(2) * im;
-                        ap[2] += c(1) * im + c(2) * re;
-                        ap[3] += c(3) * y;
-                    }
+            for (jo, ji, blk) in &mats.channels[c] {
+                let (y, re, im) = (yr[*jo], y2[*jo].re, y2[*jo].im);
+                for (pi, ap) in a[*ji].iter_mut().enumerate() {
+                    let c = |po: usize| blk[po * 4 + pi];
+                    // Y_{j p}: p = 0, 3 carry the real SH in s0, s3; p = 1, 2 carry
+                    // 2Y and i 2Y in s1 + i s2 (PSH (29)).
+                    ap[0] += c(0) * y;
+                    ap[1] += c(1) * re - c(2) * im;
+                    ap[2] += c(1) * im + c(2) * re;
+                    ap[3] += c(3) * y;
                 }
             }
             a
@@ -210,7 +244,7 @@ mod tests {
         let mut basis = PshEvaluator::new(lmax).unwrap();
         let mut dirs = random_directions(6, 3);
         dirs.push([0.0, 0.0, 1.0]);
-        let lobe = Lobe::Matrices(Box::new(mats.clone()));
+        let lobe = Lobe::Matrices(Box::new(Blocks::new(&mats).unwrap()));
         for &wo in &dirs {
             let at = lobe.at(&mut basis, wo).unwrap();
             let AtPoint::Matrices(..) = at else {
