@@ -20,7 +20,6 @@ pub(crate) struct DirectLights<'a> {
     scene: &'a Scene,
     lights: Vec<DirectionalLight>,
     lobes: Vec<Lobe>,
-    offset: f64,
 }
 
 impl<'a> DirectLights<'a> {
@@ -39,7 +38,6 @@ impl<'a> DirectLights<'a> {
                 .iter()
                 .map(Lobe::exact)
                 .collect::<Result<_>>()?,
-            offset: 1e-4 * scene.bounding_scale(),
         }))
     }
 
@@ -66,7 +64,7 @@ impl<'a> DirectLights<'a> {
         let rot = Frame::from_z(n)?.rotation();
         let wo = rot.inverse() * Vector3::from(out.direction());
         let wo = [wo.x, wo.y, wo.z];
-        let origin: [f64; 3] = std::array::from_fn(|k| p[k] + self.offset * n[k]);
+        let origin = self.scene.shadow_origin(p, n);
         let mut acc = [[0.0; 4]; 3];
         let mut at = None;
         for light in &self.lights {

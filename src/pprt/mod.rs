@@ -42,7 +42,9 @@ pub use reflected::{high_order_kernel, reflected_pbrdf, reflected_radiance};
 pub use render::{
     direct_light, primary_hits, render_frame, vertex_stokes, StokesImage, UnphysicalPixels,
 };
-pub use scene::{Camera, EnvironmentSource, Hit, Scene, SceneMaterial, SceneObject};
+pub use scene::{
+    Camera, EnvironmentSource, Hit, Scene, SceneMaterial, SceneObject, SHADOW_RAY_OFFSET,
+};
 pub use settings::{Planning, TransferSettings, Visibility, MAX_L_HIGH, MAX_L_LOW};
 pub use sky::{RayleighSky, Sun};
 pub use transfer::{

@@ -72,7 +72,6 @@ pub struct Reference<'a> {
     environment: Option<PshVector>,
     /// The source's directional lights, reflected exactly at every fidelity (as PPRT does).
     direct: Option<DirectLights<'a>>,
-    offset: f64,
 }
 
 impl<'a> Reference<'a> {
@@ -106,7 +105,6 @@ impl<'a> Reference<'a> {
             lobes,
             environment,
             direct: DirectLights::new(scene)?,
-            offset: 1e-4 * scene.bounding_scale(),
         })
     }
 
@@ -162,7 +160,7 @@ impl<'a> Reference<'a> {
         let wo = out.direction();
         let wo_l = rot.inverse() * Vector3::from(wo);
         let shift = shifts(self.settings.seed ^ stream.wrapping_mul(0x9E37_79B9_7F4A_7C15));
-        let origin: [f64; 3] = std::array::from_fn(|k| p[k] + self.offset * n[k]);
+        let origin = self.scene.shadow_origin(p, n);
         let band_limited = matches!(self.settings.fidelity, Fidelity::BandLimited(_));
         let wo_a = [wo_l.x, wo_l.y, wo_l.z];
         let at = lobe.at(&mut ws.basis, wo_a)?;

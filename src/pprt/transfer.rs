@@ -82,8 +82,7 @@ pub fn ray_visibility(
         });
     }
     let nv = num_coeffs(rays.lv);
-    let scale = scene.bounding_scale();
-    let origin: [f64; 3] = std::array::from_fn(|k| p[k] + 1e-4 * scale * n[k]);
+    let origin = scene.shadow_origin(p, n);
     let mut v = vec![0.0; nv];
     let w = 4.0 * std::f64::consts::PI / rays.dirs.len() as f64;
     for (d, y) in rays.dirs.iter().zip(rays.basis.chunks_exact(nv)) {
