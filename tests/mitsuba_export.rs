@@ -21,6 +21,19 @@ fn matrix_after(xml: &str, after: &str) -> Vec<f64> {
         .collect()
 }
 
+/// The RGB texels of an export's `environment.exr`, row-major.
+fn environment_texels(dir: &std::path::Path) -> Vec<[f32; 3]> {
+    let image = exr::prelude::read_first_rgba_layer_from_file(
+        dir.join("environment.exr"),
+        |size, _| (size.0, vec![[0f32; 3]; size.0 * size.1]),
+        |(w, px): &mut (usize, Vec<[f32; 3]>), pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+            px[pos.1 * *w + pos.0] = [r, g, b]
+        },
+    )
+    .unwrap();
+    image.layer_data.channel_data.pixels.1
+}
+
 #[test]
 fn the_sky_scene_exports_with_psh_camera_and_sky() {
     let (scene, _) = load_scene("scenes/mitsuba_sky.toml", 4).unwrap();
@@ -69,15 +82,7 @@ fn the_sky_scene_exports_with_psh_camera_and_sky() {
     }
     // The environment: 8 x 16 texels, row r at theta = pi r / 7, column k at
     // phi = 2 pi (k + 1/2) / 16, the sky's s0 there.
-    let image = exr::prelude::read_first_rgba_layer_from_file(
-        dir.join("environment.exr"),
-        |size, _| vec![[0f32; 3]; size.0 * size.1],
-        |px: &mut Vec<[f32; 3]>, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
-            px[pos.1 * 16 + pos.0] = [r, g, b]
-        },
-    )
-    .unwrap();
-    let texels = &image.layer_data.channel_data.pixels;
+    let texels = &environment_texels(&dir);
     let psh::pprt::EnvironmentSource::Sky(sky) = scene.source() else {
         panic!("the sky scene's source is the sky")
     };
@@ -223,15 +228,7 @@ fn an_exr_map_environment_is_sampled_at_its_own_resolution_and_exported() {
             "{:?}",
             export.differences
         );
-        let image = exr::prelude::read_first_rgba_layer_from_file(
-            out.join("environment.exr"),
-            |size, _| vec![[0f32; 3]; size.0 * size.1],
-            |px: &mut Vec<[f32; 3]>, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
-                px[pos.1 * 32 + pos.0] = [r, g, b]
-            },
-        )
-        .unwrap();
-        let texels = &image.layer_data.channel_data.pixels;
+        let texels = &environment_texels(&out);
         for (r, k) in [(0, 0), (3, 5), (8, 31), (15, 17)] {
             let theta = std::f64::consts::PI * r as f64 / 15.0;
             let phi = 2.0 * std::f64::consts::PI * (k as f64 + 0.5) / 32.0;
