@@ -31,7 +31,7 @@
 //! [OMEGA_DEGREES] [OUT_DIR]` (defaults: all, 90, `target/polarizing_filter_sphere`).
 
 use nalgebra::Vector3;
-use psh::io::{srgb8, tick_label, Legend};
+use psh::io::{srgb8, tick_label, write_png_with_legend, Legend};
 use psh::optics::metalness;
 use psh::optics::{filter_angle, mueller_filtered_reflection, omega, omega_ior, Incidence};
 use psh::optics::{Channel, FresnelCoefficients, Material};
@@ -178,7 +178,7 @@ fn run() -> Result<bool, Box<dyn std::error::Error>> {
         let path = out.join(format!("sphere_{}.png", m.name().to_ascii_lowercase()));
         let (rgb, white) = picture(&r);
         let grey = |t: f64| [srgb8(t); 3];
-        Legend::bar(
+        let legend = Legend::bar(
             "intensity (linear; the fourth panel 0.5 + 10 (Omega - Mueller) / white)",
             &grey,
             vec![(0.0, "0".into()), (1.0, tick_label(white))],
@@ -188,8 +188,8 @@ fn run() -> Result<bool, Box<dyn std::error::Error>> {
             "filter: Mueller",
             "filter: Omega (PF)",
             "difference x10",
-        ])
-        .write_png(&path, 4 * SIZE, SIZE, &rgb)?;
+        ]);
+        write_png_with_legend(&path, &legend, 4 * SIZE, SIZE, &rgb)?;
         let (max, mean) = differences(&r);
         let pass = r.exact_error <= TOLERANCE;
         ok &= pass;

@@ -19,7 +19,9 @@ use psh::geometry::rotation_from_rotvec;
 use psh::geometry::Rotated;
 use psh::geometry::ThetaPhiFrameField;
 use psh::geometry::{Equirect, PixelGrid};
-use psh::io::{diverging, tick_label, write_map_pngs, write_matrix_png, Legend};
+use psh::io::{
+    diverging, tick_label, write_map_pngs, write_matrix_png, write_png_with_legend, Legend,
+};
 use psh::map::{MapLayout, StokesMap};
 use psh::polarized::{reconstruct_image, PshRotation, PshTransform, PshVector};
 use psh::sh::RealWignerD;
@@ -141,12 +143,12 @@ fn figure11(out: &Path, r: &nalgebra::Rotation3<f64>) -> psh::Result<()> {
             let ticks = [-1.0, 0.0, 1.0]
                 .map(|k| (0.5 + 0.5 * k, tick_label(0.1 * k * scale)))
                 .to_vec();
-            Legend::bar(
+            let legend = Legend::bar(
                 format!("s{p} ({name}) - s{p} (angular), green channel"),
                 &bar,
                 ticks,
-            )
-            .write_png(&path, grid.width, grid.height, &rgb)?;
+            );
+            write_png_with_legend(&path, &legend, grid.width, grid.height, &rgb)?;
         }
     }
     println!("  pictures: fig11_{{angular,psh,naive}}_{{s0,s1,s2,s3,dop,aop}}.png, differences (green channel, +-10% of max |s|) fig11_{{psh,naive}}_minus_angular_s{{1,2}}.png");

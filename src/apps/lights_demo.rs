@@ -6,7 +6,7 @@
 use crate::apps::light_scene::{demo_scene, exact_coefficients, grid_errors, Scene};
 use crate::error::Result;
 use crate::io::io_error;
-use crate::io::png::diverging;
+use crate::io::png::{diverging, write_png_with_legend};
 use crate::io::Legend;
 use crate::lights::grid::{Lattice, LightGrid, Metric, Refinement};
 use crate::lights::spherical::SphericalLights;
@@ -121,12 +121,12 @@ pub(crate) fn error_image(
     let ticks = (0..=6)
         .map(|k| (f64::from(k) / 6.0, format!("1e{}", k - 6)))
         .collect();
-    Legend::bar(
+    let legend = Legend::bar(
         "relative error |L - L_exact| / |L_exact| per floor point (log scale)",
         &bar,
         ticks,
-    )
-    .write_png(path, n, n, &rgb)
+    );
+    write_png_with_legend(path, &legend, n, n, &rgb)
 }
 
 /// Runs the demo and writes `table.md`, `error_adaptive.png` and

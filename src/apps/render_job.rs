@@ -4,7 +4,7 @@
 
 use crate::error::{Error, Result};
 use crate::io::exr::write_stokes_image;
-use crate::io::png::{srgb8, write_stokes_pngs, PictureNotes};
+use crate::io::png::{srgb8, write_png_with_legend, write_stokes_pngs, PictureNotes};
 use crate::io::{tick_label, Legend};
 use crate::polarized::SparsePshMatrix;
 use crate::pprt::plan::Plan;
@@ -454,7 +454,7 @@ fn write_polarizer_png(image: &StokesImage, deg: f64, out: &Path) -> Result<Path
         );
     }
     let path = out.join(format!("polarizer_{deg}.png"));
-    legend.write_png(&path, image.width, image.height, &rgb)?;
+    write_png_with_legend(&path, &legend, image.width, image.height, &rgb)?;
     Ok(path)
 }
 

@@ -197,18 +197,6 @@ impl Legend<'_> {
         }
         root.present().map_err(|e| err(&e))
     }
-
-    /// Writes the picture with its legend as an 8-bit RGB PNG ([`super::write_png`]).
-    pub fn write_png(
-        &self,
-        path: impl AsRef<std::path::Path>,
-        w: usize,
-        h: usize,
-        rgb: &[[u8; 3]],
-    ) -> Result<()> {
-        let (pixels, width, height) = self.compose(rgb, w, h)?;
-        super::png::write_png(path, width, height, &pixels)
-    }
 }
 
 /// A tick label: four significant digits, in exponent form outside `[0.01, 10^4)`.

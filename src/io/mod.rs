@@ -40,8 +40,8 @@ pub use npz::{read_isotropic_npz, read_psh_npz, write_isotropic_npz, write_npy, 
 pub use obj::read_obj;
 pub use output::{all_or_nothing, refuse_input, write_file, write_text};
 pub use png::{
-    diverging, srgb8, write_map_pngs, write_matrix_png, write_png, write_stokes_pngs, PictureNotes,
-    UNPHYSICAL,
+    diverging, srgb8, write_map_pngs, write_matrix_png, write_png, write_png_with_legend,
+    write_stokes_pngs, PictureNotes, UNPHYSICAL,
 };
 #[cfg(feature = "render")]
 pub use scene_file::{data_dir, load_scene, scene_settings, SOURCE_LMAX};

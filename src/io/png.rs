@@ -64,6 +64,19 @@ pub fn write_png(
     })
 }
 
+/// Writes the picture `rgb` (`w x h`, row-major) with `legend` under it
+/// ([`Legend::compose`]) as an 8-bit RGB PNG.
+pub fn write_png_with_legend(
+    path: impl AsRef<Path>,
+    legend: &Legend,
+    w: usize,
+    h: usize,
+    rgb: &[[u8; 3]],
+) -> Result<()> {
+    let (pixels, width, height) = legend.compose(rgb, w, h)?;
+    write_png(path, width, height, &pixels)
+}
+
 /// sRGB encoding of a linear value (clipped to `[0, 1]`), to 8 bits.
 pub fn srgb8(x: f64) -> u8 {
     let x = x.clamp(0.0, 1.0);
@@ -210,7 +223,7 @@ fn write_texel_pngs(
         let rgb: Vec<[u8; 3]> = (0..n)
             .map(|i| if on[i] { pixel(i) } else { [0; 3] })
             .collect();
-        legend.write_png(&path, w, h, &rgb)?;
+        write_png_with_legend(&path, &legend, w, h, &rgb)?;
         out.push(path);
         Ok(())
     };
@@ -370,7 +383,7 @@ pub fn write_matrix_png(
             "between the blocks of degrees l (index l*l + l + m)",
         );
     }
-    legend.write_png(path, size, size, &rgb)
+    write_png_with_legend(path, &legend, size, size, &rgb)
 }
 
 #[cfg(test)]
