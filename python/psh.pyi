@@ -114,7 +114,7 @@ def wigner_d_real(rotation: Rotation, lmax: int) -> list[FloatArray]:
     """Real Wigner blocks PSH (13) per degree, ``(2l+1, 2l+1)``."""
 
 def read_stokes_map(pattern: Path) -> FloatArray:
-    """EXR files (``%d`` for 0..3): ``(channels, rows, columns, 4)`` in the layout's frame
+    """EXR files (``%d`` for 0..3) or one file with layers ``S0..S3``: ``(channels, rows, columns, 4)`` in the layout's frame
     field (cube cross: ``FrameField.cube_map()``; equirect: ``FrameField.theta_phi()``)."""
 
 def write_stokes_map(texels: ArrayLike, pattern: Path) -> list[str]: ...

@@ -22,8 +22,8 @@ fn map_array<'py>(py: Python<'py>, map: &StokesMap) -> PyResult<Bound<'py, PyArr
 }
 
 /// Reads the four EXR files `pattern` names (`%d` for the Stokes index 0..3, as
-/// `sponza_64_s%d.exr`): texels `(channels, rows, columns, 4)` in psh's frame field
-/// of the layout (`FrameField.cube_map()` for a cube cross, `FrameField.theta_phi()` for
+/// `sponza_64_s%d.exr`), or one file with layers `S0..S3`: texels `(channels, rows,
+/// columns, 4)` in psh's frame field of the layout (`FrameField.cube_map()` for a cube cross, `FrameField.theta_phi()` for
 /// an equirectangular map), indexed by the direction towards the source.
 #[pyfunction]
 fn read_stokes_map<'py>(

@@ -381,7 +381,8 @@ impl CodomainName {
 
 #[derive(Args)]
 struct ProjectArgs {
-    /// The component files: a pattern with %d (map_s%d.exr) or one of them (map_s0.exr).
+    /// The component files: a pattern with %d (map_s%d.exr) or one of them (map_s0.exr);
+    /// or one EXR file with layers S0..S3 (Mitsuba 3's multichannel layout), same frames.
     input: String,
     /// Band limit: coefficients of degrees l <= lmax.
     #[arg(long)]
@@ -995,7 +996,7 @@ fn writing<T>(
 fn project(a: &ProjectArgs) -> psh::Result<serde_json::Value> {
     let codomain = a.codomain.codomain();
     psh::sh::check_lmax(a.lmax)?;
-    let inputs = psh::io::component_paths(&a.input)?;
+    let inputs = psh::io::stokes_map_files(&a.input)?;
     let (map, v) = writing(&inputs, &a.output, || {
         let map = psh::io::read_stokes_map(&a.input)?;
         let v = map.project(codomain, a.lmax)?.windowed(a.window);

@@ -204,8 +204,13 @@ fn choose_channels(path: &Path, names: &[String]) -> Result<Vec<(String, usize)>
 /// Reads the four component files of a map (`pattern` as in
 /// [`super::component_paths`]). Errors name the file and the reason: a missing component,
 /// an unreadable file, sizes or channels that differ between the files, a shape that is
-/// neither a cube cross nor equirectangular, a NaN or infinite texel.
+/// neither a cube cross nor equirectangular, a NaN or infinite texel. Or, given one EXR file with layers `S0..S3` (Mitsuba 3's multichannel layout, read as
+/// [`read_stokes_image`]), its texels in the same stored frames.
 pub fn read_stokes_map(pattern: impl AsRef<Path>) -> Result<StokesMap> {
+    let pattern = pattern.as_ref();
+    if holds_stokes_layers(pattern) {
+        return read_layered_map(pattern);
+    }
     let paths = component_paths(pattern)?;
     let mut first: Option<((usize, usize), Vec<String>)> = None;
     let mut channels: Vec<Vec<[f64; 4]>> = Vec::new();
@@ -251,6 +256,45 @@ pub fn read_stokes_map(pattern: impl AsRef<Path>) -> Result<StokesMap> {
         .map(|ch| ch.into_iter().map(reverse_frame).collect())
         .collect();
     StokesMap::new(layout, channels).map_err(|e| malformed(&paths[0], e.to_string()))
+}
+
+/// The files [`read_stokes_map`] reads for `pattern`: the one layered file, or the four
+/// component files ([`component_paths`]).
+pub fn stokes_map_files(pattern: impl AsRef<Path>) -> Result<Vec<PathBuf>> {
+    let pattern = pattern.as_ref();
+    if holds_stokes_layers(pattern) {
+        Ok(vec![pattern.to_path_buf()])
+    } else {
+        Ok(component_paths(pattern)?.to_vec())
+    }
+}
+
+/// Whether `path` (not a `%d` pattern) is a readable EXR file with a layer `S0`.
+fn holds_stokes_layers(path: &Path) -> bool {
+    let pattern = path.to_str().is_some_and(|p| p.contains("%d"));
+    !pattern
+        && path.is_file()
+        && exr::meta::MetaData::read_from_file(path, false).is_ok_and(|meta| {
+            meta.headers.iter().any(|h| {
+                h.channels.list.iter().any(|c| {
+                    let name = c.name.to_string();
+                    name.split_once('.')
+                        .is_some_and(|(layer, _)| layer.eq_ignore_ascii_case("s0"))
+                })
+            })
+        })
+}
+
+/// A map from one file with layers `S0..S3` ([`read_stokes_image`]), texels in the stored
+/// frames. Error: a shape that is neither a cube cross nor equirectangular.
+fn read_layered_map(path: &Path) -> Result<StokesMap> {
+    let (w, h, channels) = read_stokes_image(path)?;
+    let layout = MapLayout::from_image_size(h, w).map_err(|e| malformed(path, e.to_string()))?;
+    let channels = channels
+        .into_iter()
+        .map(|ch| ch.into_iter().map(reverse_frame).collect())
+        .collect();
+    StokesMap::new(layout, channels).map_err(|e| malformed(path, e.to_string()))
 }
 
 /// Writes a map as four component files (`pattern` with `%d`, or one component's file

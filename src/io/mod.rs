@@ -29,7 +29,8 @@ pub(crate) mod scene_file;
 pub(crate) mod texels;
 
 pub use exr::{
-    read_stokes_image, read_stokes_map, write_stokes_image, write_stokes_map, StokesPixels,
+    read_stokes_image, read_stokes_map, stokes_map_files, write_stokes_image, write_stokes_map,
+    StokesPixels,
 };
 pub use kernel_csv::read_kernel_csv;
 pub use legend::{tick_label, ColourBar, Legend, LEGEND_MIN_WIDTH};
