@@ -586,7 +586,7 @@ fn ablation_writes_three_variants_side_by_side() {
 }
 
 /// Inputs of another scene are errors, not panics: transfers, high orders and hits of the
-/// wrong sizes, a material or workspace the reference does not have.
+/// wrong sizes, a hit on a triangle the scene lacks, a material or workspace the reference does not have.
 #[test]
 fn mismatched_runtime_inputs_are_errors() {
     use psh::pprt::{direct_light, primary_hits, render_frame, vertex_stokes};
@@ -608,6 +608,13 @@ fn mismatched_runtime_inputs_are_errors() {
     let bg = direct_light(&scene, &hits).unwrap();
     let e = render_frame(&scene, &transfer, &none, &hits[..10], &bg).unwrap_err();
     assert!(e.to_string().contains("primary hits"), "{e}");
+    let mut foreign = hits.clone();
+    foreign.iter_mut().flatten().next().unwrap().triangle = usize::MAX;
+    let e = render_frame(&scene, &transfer, &none, &foreign, &bg).unwrap_err();
+    assert!(
+        e.to_string().contains("not a triangle of this scene"),
+        "{e}"
+    );
     let r = Reference::new(
         &scene,
         ReferenceSettings {
@@ -716,4 +723,44 @@ fn shadow_rays_see_an_occluder_close_above_the_surface() {
     // Beyond the lid's edge the sky is open.
     let outside = scene.shadow_origin([5.0, 0.0, 0.0], [0.0, 0.0, 1.0]);
     assert!(!scene.occluded(outside, [0.0, 0.0, 1.0], 0.0));
+}
+
+/// A frame evaluates only the vertices of the hit triangles: its pixels equal, bit for
+/// bit, the barycentric interpolation of every vertex's value (`vertex_stokes`) plus
+/// the direct light.
+#[test]
+fn a_frame_reads_only_the_vertices_it_sees() {
+    use psh::pprt::{direct_light, high_order_fields, primary_hits, render_frame, vertex_stokes};
+    let scene = builtin_scene(6, 40, 30).unwrap();
+    let settings = TransferSettings {
+        l_low: 3,
+        l_high: 6,
+        rays: 32,
+        visibility: psh::pprt::Visibility::Rays,
+    };
+    let transfer = precompute(&scene, settings).unwrap();
+    let high = high_order_fields(&scene, settings).unwrap();
+    let hits = primary_hits(&scene);
+    let direct = direct_light(&scene, &hits).unwrap();
+    let image = render_frame(&scene, &transfer, &high, &hits, &direct).unwrap();
+    let every = vertex_stokes(&scene, &transfer, &high).unwrap();
+    let mut surface = 0;
+    for (k, (hit, d)) in hits.iter().zip(&direct).enumerate() {
+        for c in 0..3 {
+            let want: [f64; 4] = match hit {
+                Some(h) => {
+                    let t = scene.objects()[h.object].mesh.triangles()[h.triangle];
+                    let w = [1.0 - h.u - h.v, h.u, h.v];
+                    let vs = &every[h.object];
+                    std::array::from_fn(|p| {
+                        d[c][p] + (0..3).map(|i| w[i] * vs[t[i] as usize][c][p]).sum::<f64>()
+                    })
+                }
+                None => d[c],
+            };
+            assert_eq!(image.channels[c][k], want, "pixel {k}, channel {c}");
+        }
+        surface += usize::from(hit.is_some());
+    }
+    assert!(surface > 300, "{surface} surface pixels");
 }

@@ -243,7 +243,10 @@ def test_fig19_against_mitsuba(psh, record):
         "(`roughdielectric` is not polarized in Mitsuba 3) |",
         "| plastic with albedo a | specular + Lambert a (no Fresnel factors) | `blendbsdf` 0.5: "
         "`pplastic` (specular x2, diffuse 0) + `diffuse` (2a) |",
-        "| s3 | psh's sign | not tested: one bounce of unpolarized light creates none |",
+        "| s3 | psh's sign | the same sign: checked in the conductor's Mueller matrix against "
+        "`mi.mueller.specular_reflection` (`test_mitsuba.py`; its s2-s3 elements make circular "
+        "light of linear light), not in the images (one bounce of unpolarized light creates "
+        "none) |",
         "",
         f"## {SCENES['sphere'].name}: GGX conductor sphere, constant environment",
         "",

@@ -66,8 +66,13 @@ pub fn reflected_radiance(
     let w = Vector3::from(wo);
     let r = 2.0 * nv.dot(&w) * nv - w;
     let turn = Rotation3::from_axis_angle(&Unit::new_normalize(nv), std::f64::consts::PI);
-    eval.evaluate_all(h, [r.x, r.y, r.z])?
+    let all = eval.evaluate_all(h, [r.x, r.y, r.z])?;
+    // One frame for every channel (the theta-phi frame at `r`), turned once.
+    let Some(frame) = all.first().map(|s| s.frame().rotated(&turn)).transpose()? else {
+        return Ok(all);
+    };
+    Ok(all
         .into_iter()
-        .map(|s| Ok(StokesVector::new(s.components(), s.frame().rotated(&turn)?)))
-        .collect()
+        .map(|s| StokesVector::new(s.components(), frame))
+        .collect())
 }

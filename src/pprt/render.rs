@@ -186,6 +186,46 @@ pub fn vertex_stokes(
     transfer: &[Vec<VertexTransfer>],
     high: &[Option<PshVector>],
 ) -> Result<Vec<Vec<[[f64; 4]; 3]>>> {
+    let all: Vec<Vec<bool>> = scene
+        .objects()
+        .iter()
+        .map(|o| vec![true; o.mesh.positions().len()])
+        .collect();
+    vertex_stokes_of(scene, transfer, high, &all)
+}
+
+/// `[object][vertex]`: whether a triangle of the vertex is hit by one of `hits` (the
+/// vertices a frame reads). Error: a hit on a triangle the scene does not have.
+fn seen_vertices(scene: &Scene, hits: &[Option<Hit>]) -> Result<Vec<Vec<bool>>> {
+    let mut seen: Vec<Vec<bool>> = scene
+        .objects()
+        .iter()
+        .map(|o| vec![false; o.mesh.positions().len()])
+        .collect();
+    for h in hits.iter().flatten() {
+        let triangle = scene
+            .objects()
+            .get(h.object)
+            .and_then(|o| o.mesh.triangles().get(h.triangle))
+            .ok_or_else(|| crate::error::Error::InvalidArgument {
+                name: "primary hit",
+                value: format!("object {}, triangle {}", h.object, h.triangle),
+                reason: "not a triangle of this scene".into(),
+            })?;
+        for &i in triangle {
+            seen[h.object][i as usize] = true;
+        }
+    }
+    Ok(seen)
+}
+
+/// [`vertex_stokes`] of the vertices `wanted[object][vertex]`; zero at the others.
+fn vertex_stokes_of(
+    scene: &Scene,
+    transfer: &[Vec<VertexTransfer>],
+    high: &[Option<PshVector>],
+    wanted: &[Vec<bool>],
+) -> Result<Vec<Vec<[[f64; 4]; 3]>>> {
     check_len("transfer objects", scene.objects().len(), transfer.len())?;
     for (o, t) in scene.objects().iter().zip(transfer) {
         check_len("vertex transfers", o.mesh.positions().len(), t.len())?;
@@ -202,7 +242,8 @@ pub fn vertex_stokes(
         .objects()
         .iter()
         .zip(transfer)
-        .map(|(o, t)| {
+        .zip(wanted)
+        .map(|((o, t), wanted)| {
             let h = high[o.material].as_ref();
             let low = PshEvaluator::new(t.first().map_or(0, |vt| vt.radiance.lmax()))?;
             let high = PshEvaluator::new(h.map_or(0, PshVector::lmax))?;
@@ -211,21 +252,26 @@ pub fn vertex_stokes(
                 .par_iter()
                 .zip(o.mesh.normals())
                 .zip(t)
+                .zip(wanted)
                 .map_init(
                     || (low.clone(), high.clone()),
-                    |(low, high), ((p, n), vt)| {
+                    |(low, high), (((p, n), vt), &wanted)| {
+                        if !wanted {
+                            return Ok([[0.0; 4]; 3]);
+                        }
                         let v = (eye - Vector3::from(*p)).normalize();
                         let wo = [v.x, v.y, v.z];
                         let local = vt.rotation.inverse() * v;
                         let out_frame = camera_travel_frame(&field, wo)?;
                         let mut s = [[0.0; 4]; 3];
                         let all = low.evaluate_all(&vt.radiance, [local.x, local.y, local.z])?;
-                        for (sc, sl) in s.iter_mut().zip(all) {
-                            let world = StokesVector::new(
-                                sl.components(),
-                                sl.frame().rotated(&vt.rotation)?,
-                            );
-                            *sc = world.components_in(&out_frame)?.to_array();
+                        // One frame for every channel (the theta-phi frame at `local`).
+                        if let Some(first) = all.first() {
+                            let frame = first.frame().rotated(&vt.rotation)?;
+                            for (sc, sl) in s.iter_mut().zip(&all) {
+                                let world = StokesVector::new(sl.components(), frame);
+                                *sc = world.components_in(&out_frame)?.to_array();
+                            }
                         }
                         if let Some(h) = h {
                             for (sc, sh) in s.iter_mut().zip(reflected_radiance(high, h, *n, wo)?) {
@@ -253,8 +299,9 @@ pub(crate) fn seen_through(
     Ok([x[0], x[1], -x[2], -x[3]])
 }
 
-/// One frame: [`vertex_stokes`] interpolated with the hits' barycentric coordinates
-/// (components all in the camera's frames), plus `direct` ([`direct_light`]: the
+/// One frame: [`vertex_stokes`] of the vertices of the hit triangles (no other is read),
+/// interpolated with the hits' barycentric coordinates (components all in the camera's
+/// frames), plus `direct` ([`direct_light`]: the
 /// environment where nothing is hit, the directional lights on surfaces). Errors: as
 /// [`vertex_stokes`], and `hits` or `direct` not one per pixel.
 pub fn render_frame(
@@ -267,7 +314,7 @@ pub fn render_frame(
     let cam = scene.camera();
     check_len("primary hits", cam.width * cam.height, hits.len())?;
     check_len("direct light pixels", hits.len(), direct.len())?;
-    let vertex_stokes = vertex_stokes(scene, transfer, high)?;
+    let vertex_stokes = vertex_stokes_of(scene, transfer, high, &seen_vertices(scene, hits)?)?;
     let pixels: Vec<[[f64; 4]; 3]> = hits
         .par_iter()
         .zip(direct)
