@@ -87,25 +87,19 @@ impl PshEvaluator {
         let slot = |p: usize| comps.iter().position(|&q| q == p);
         let (k0, k1, k2, k3) = (slot(0), slot(1), slot(2), slot(3));
         let n = num_coeffs(v.lmax());
-        let (yr, y2) = (&self.yr[..n], &self.y2[..n]);
         v.data()
             .chunks_exact(n * np)
             .map(|x| {
-                // Component `k` of every coefficient: a strided slice of the channel.
-                let part = |k: usize| x[k..].iter().step_by(np);
-                let scalar =
-                    |k: Option<usize>| k.map_or(0.0, |k| part(k).zip(yr).map(|(a, b)| a * b).sum());
-                // f_lm1 2Y_lm + i f_lm2 2Y_lm = s1 + i s2 (PSH (29)-(30)).
-                let spin = match (k1, k2) {
-                    (Some(k1), Some(k2)) => part(k1)
-                        .zip(part(k2))
-                        .zip(y2)
-                        .fold(Complex64::default(), |z, ((&a, &b), &y)| {
-                            z + Complex64::new(a, b) * y
-                        }),
-                    _ => Complex64::default(),
-                };
-                let s = [scalar(k0), spin.re, spin.im, scalar(k3)];
+                let mut s = [0.0; 4];
+                for ((xj, &yr), &y2) in x.chunks_exact(np).zip(&self.yr).zip(&self.y2) {
+                    let at = |k: Option<usize>| k.map_or(0.0, |k| xj[k]);
+                    // f_lm1 2Y_lm + i f_lm2 2Y_lm = s1 + i s2 (PSH (29)-(30)).
+                    let (a, b) = (at(k1), at(k2));
+                    s[0] += at(k0) * yr;
+                    s[1] += a * y2.re - b * y2.im;
+                    s[2] += a * y2.im + b * y2.re;
+                    s[3] += at(k3) * yr;
+                }
                 Ok(StokesVector::new(StokesComponents::new(s)?, frame))
             })
             .collect()

@@ -238,53 +238,60 @@ fn vertex_stokes_of(
     let cam = scene.camera();
     let field = PerspectiveFrameField::new(cam.frame);
     let eye = Vector3::from(cam.position);
-    scene
-        .objects()
+    // One parallel loop over the wanted vertices of all objects (balanced across threads),
+    // evaluators sized for the largest band limits.
+    let jobs: Vec<(usize, usize)> = wanted
         .iter()
-        .zip(transfer)
-        .zip(wanted)
-        .map(|((o, t), wanted)| {
-            let h = high[o.material].as_ref();
-            let low = PshEvaluator::new(t.first().map_or(0, |vt| vt.radiance.lmax()))?;
-            let high = PshEvaluator::new(h.map_or(0, PshVector::lmax))?;
-            o.mesh
-                .positions()
-                .par_iter()
-                .zip(o.mesh.normals())
-                .zip(t)
-                .zip(wanted)
-                .map_init(
-                    || (low.clone(), high.clone()),
-                    |(low, high), (((p, n), vt), &wanted)| {
-                        if !wanted {
-                            return Ok([[0.0; 4]; 3]);
-                        }
-                        let v = (eye - Vector3::from(*p)).normalize();
-                        let wo = [v.x, v.y, v.z];
-                        let local = vt.rotation.inverse() * v;
-                        let out_frame = camera_travel_frame(&field, wo)?;
-                        let mut s = [[0.0; 4]; 3];
-                        let all = low.evaluate_all(&vt.radiance, [local.x, local.y, local.z])?;
-                        // One frame for every channel (the theta-phi frame at `local`).
-                        if let Some(first) = all.first() {
-                            let frame = first.frame().rotated(&vt.rotation)?;
-                            for (sc, sl) in s.iter_mut().zip(&all) {
-                                let world = StokesVector::new(sl.components(), frame);
-                                *sc = world.components_in(&out_frame)?.to_array();
-                            }
-                        }
-                        if let Some(h) = h {
-                            for (sc, sh) in s.iter_mut().zip(reflected_radiance(high, h, *n, wo)?) {
-                                let x = sh.components_in(&out_frame)?.to_array();
-                                sc.iter_mut().zip(x).for_each(|(a, b)| *a += b);
-                            }
-                        }
-                        Ok(s)
-                    },
-                )
-                .collect::<Result<Vec<_>>>()
-        })
-        .collect()
+        .enumerate()
+        .flat_map(|(o, w)| (0..w.len()).filter(move |&v| w[v]).map(move |v| (o, v)))
+        .collect();
+    let low_lmax = transfer.iter().flatten().map(|vt| vt.radiance.lmax()).max();
+    let high_lmax = high.iter().flatten().map(PshVector::lmax).max();
+    let low = PshEvaluator::new(low_lmax.unwrap_or(0))?;
+    let high_eval = PshEvaluator::new(high_lmax.unwrap_or(0))?;
+    let values = jobs
+        .par_iter()
+        .map_init(
+            || (low.clone(), high_eval.clone()),
+            |(low, high_eval), &(o, k)| {
+                let object = &scene.objects()[o];
+                let (p, n, vt) = (
+                    object.mesh.positions()[k],
+                    object.mesh.normals()[k],
+                    &transfer[o][k],
+                );
+                let v = (eye - Vector3::from(p)).normalize();
+                let wo = [v.x, v.y, v.z];
+                let local = vt.rotation.inverse() * v;
+                let out_frame = camera_travel_frame(&field, wo)?;
+                let mut s = [[0.0; 4]; 3];
+                let all = low.evaluate_all(&vt.radiance, [local.x, local.y, local.z])?;
+                // One frame for every channel (the theta-phi frame at `local`).
+                if let Some(first) = all.first() {
+                    let frame = first.frame().rotated(&vt.rotation)?;
+                    for (sc, sl) in s.iter_mut().zip(&all) {
+                        let world = StokesVector::new(sl.components(), frame);
+                        *sc = world.components_in(&out_frame)?.to_array();
+                    }
+                }
+                if let Some(h) = &high[object.material] {
+                    for (sc, sh) in s.iter_mut().zip(reflected_radiance(high_eval, h, n, wo)?) {
+                        let x = sh.components_in(&out_frame)?.to_array();
+                        sc.iter_mut().zip(x).for_each(|(a, b)| *a += b);
+                    }
+                }
+                Ok(s)
+            },
+        )
+        .collect::<Result<Vec<_>>>()?;
+    let mut out: Vec<Vec<[[f64; 4]; 3]>> = wanted
+        .iter()
+        .map(|w| vec![[[0.0; 4]; 3]; w.len()])
+        .collect();
+    for (&(o, k), s) in jobs.iter().zip(values) {
+        out[o][k] = s;
+    }
+    Ok(out)
 }
 
 /// The components of the light `s` arriving from the pixel direction `d` (towards its
