@@ -89,6 +89,8 @@ pub mod error;
 pub use error::{Error, Result};
 #[cfg(feature = "exact")]
 pub mod exact;
+#[cfg(feature = "verify")]
+pub mod figures;
 pub mod geometry;
 #[cfg(feature = "io")]
 pub mod io;

@@ -28,6 +28,7 @@ const LAYERS: &[&[&str]] = &[
     &["apps"],
     &["testing"],
     &["verify"],
+    &["figures"],
 ];
 
 fn layer_of(module: &str) -> Option<usize> {

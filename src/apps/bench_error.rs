@@ -99,7 +99,8 @@ pub struct Speedup {
 }
 
 impl Row {
-    fn total(&self) -> f64 {
+    /// The total RMSE: the root of the sum of the four components' squares.
+    pub fn total(&self) -> f64 {
         self.rmse.iter().map(|x| x * x).sum::<f64>().sqrt()
     }
 }
@@ -306,7 +307,7 @@ pub fn bench_error(
 
 /// Frames PPRT renders per row; its frame time is their median (the first frame also
 /// pays for warming the caches and the thread pool, which a renderer pays once).
-pub const PPRT_FRAMES: usize = 5;
+pub const PPRT_FRAMES: usize = 25;
 
 /// The image of `frame` and the median of [`PPRT_FRAMES`] run times, in seconds.
 fn median_frame(frame: impl Fn() -> Result<StokesImage>) -> Result<(StokesImage, f64)> {

@@ -34,6 +34,9 @@ pub const REPORT_LMAX: [usize; 20] = [
     1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 20, 24, 28, 31,
 ];
 
+/// The largest band limit of ISD Fig. 13.
+pub const PAPER_TOP: usize = 31;
+
 /// The band limits of the timing (the criterion ids `isd/filter/{8,16,31}`).
 pub const TIMING_LMAX: [usize; 3] = [8, 16, 31];
 
@@ -79,11 +82,13 @@ fn profile_color(p: Profile) -> [u8; 3] {
     }
 }
 
-/// The condition numbers of ISD Fig. 13 for both patterns (`beta` by quadrature once
-/// per profile at the largest `L`; its leading blocks serve the smaller ones), counted
-/// on `progress` one profile, pattern and sharing at a time.
-pub fn conditioning(progress: &dyn Progress) -> Result<Vec<Conditioning>> {
-    let top = REPORT_LMAX[REPORT_LMAX.len() - 1];
+/// The condition numbers of ISD Fig. 13 for both patterns at the band limits of
+/// [`REPORT_LMAX`] up to `top` (`beta` by quadrature once per profile at the largest;
+/// its leading blocks serve the smaller ones), counted on `progress` one profile,
+/// pattern and sharing at a time.
+pub fn conditioning(top: usize, progress: &dyn Progress) -> Result<Vec<Conditioning>> {
+    let lmaxes: Vec<usize> = REPORT_LMAX.into_iter().filter(|&l| l <= top).collect();
+    let top = lmaxes.last().copied().unwrap_or(1);
     let mut out = Vec::new();
     progress.start(
         "isd-report: condition numbers (profile, pattern, sharing)",
@@ -93,7 +98,7 @@ pub fn conditioning(progress: &dyn Progress) -> Result<Vec<Conditioning>> {
         let beta = profile.beta(top)?;
         for pattern in [Pattern::Fibonacci, Pattern::Halton] {
             for sharing in [Sharing::PerBand, Sharing::Shared] {
-                for lmax in REPORT_LMAX {
+                for &lmax in &lmaxes {
                     let dirs = DirectionSet::from_pattern(pattern, sharing, lmax)?;
                     let b = beta.view((0, 0), (lmax + 1, lmax + 1)).into_owned();
                     out.push(Conditioning {
@@ -150,11 +155,12 @@ pub fn timing(lmax: usize, rotations: usize) -> Result<(Timing, f64)> {
     ))
 }
 
-/// Writes the report into `dir` (created if missing), reporting its two stages to
-/// `progress`. Errors: the directory or a file cannot be written.
-pub fn write_isd_report(dir: &Path, progress: &dyn Progress) -> Result<IsdReport> {
+/// Writes the report into `dir` (created if missing) for the band limits up to `top`
+/// ([`REPORT_LMAX`], [`TIMING_LMAX`]; [`PAPER_TOP`] is ISD Fig. 13's), reporting its two
+/// stages to `progress`. Errors: the directory or a file cannot be written.
+pub fn write_isd_report(dir: &Path, top: usize, progress: &dyn Progress) -> Result<IsdReport> {
     std::fs::create_dir_all(dir).map_err(|e| io_error(dir, e))?;
-    let conditioning = conditioning(progress)?;
+    let conditioning = conditioning(top, progress)?;
     let mut files = Vec::new();
     let mut csv = String::from("profile,pattern,sharing,lmax,condition\n");
     for c in &conditioning {
@@ -172,7 +178,7 @@ pub fn write_isd_report(dir: &Path, progress: &dyn Progress) -> Result<IsdReport
     for pattern in [Pattern::Fibonacci, Pattern::Halton] {
         let mut plot = LinePlot::new(
             &format!("Condition number of M against L, {pattern:?} directions (ISD Fig. 13)"),
-            Axis::linear("band limit L", (0.0, 32.0)),
+            Axis::linear("band limit L", (0.0, (top + 1) as f64)),
             Axis::linear("log10 condition number (capped at 17)", (0.0, 17.0)),
         )?;
         for profile in Profile::ALL {
@@ -210,7 +216,7 @@ pub fn write_isd_report(dir: &Path, progress: &dyn Progress) -> Result<IsdReport
         "isd-report: ISD against SH rotation (band limits)",
         TIMING_LMAX.len() as u64,
     );
-    for lmax in TIMING_LMAX {
+    for lmax in TIMING_LMAX.into_iter().filter(|&l| l <= top) {
         let (t, diff) = timing(lmax, TIMING_ROTATIONS)?;
         progress.advance(1);
         let _ = writeln!(
@@ -233,12 +239,35 @@ pub fn write_isd_report(dir: &Path, progress: &dyn Progress) -> Result<IsdReport
 }
 
 impl IsdReport {
+    /// The condition number of one profile, pattern, sharing and band limit (NaN when
+    /// the report has none).
+    pub fn condition(
+        &self,
+        profile: Profile,
+        pattern: Pattern,
+        sharing: Sharing,
+        lmax: usize,
+    ) -> f64 {
+        self.conditioning
+            .iter()
+            .find(|c| {
+                c.profile == profile
+                    && c.pattern == pattern
+                    && c.sharing == sharing
+                    && c.lmax == lmax
+            })
+            .map_or(f64::NAN, |c| c.condition)
+    }
+
     /// The condition numbers (Fibonacci directions, `L` = 4, 8, 12, 16, 24, 31; per band
     /// / shared) and the timings as Markdown tables.
     pub fn markdown_table(&self) -> String {
-        let ls = [4usize, 8, 12, 16, 24, 31];
+        let ls: Vec<usize> = [4usize, 8, 12, 16, 24, 31]
+            .into_iter()
+            .filter(|&l| self.conditioning.iter().any(|c| c.lmax == l))
+            .collect();
         let mut s = String::from("| profile (Fibonacci) |");
-        for l in ls {
+        for &l in &ls {
             let _ = write!(s, " L = {l} |");
         }
         s.push_str("\n|---|");
@@ -246,18 +275,8 @@ impl IsdReport {
         s.push('\n');
         for profile in Profile::ALL {
             let _ = write!(s, "| {} |", profile.name());
-            for l in ls {
-                let get = |sh: Sharing| {
-                    self.conditioning
-                        .iter()
-                        .find(|c| {
-                            c.profile == profile
-                                && c.pattern == Pattern::Fibonacci
-                                && c.sharing == sh
-                                && c.lmax == l
-                        })
-                        .map_or(f64::NAN, |c| c.condition)
-                };
+            for &l in &ls {
+                let get = |sh: Sharing| self.condition(profile, Pattern::Fibonacci, sh, l);
                 let _ = write!(
                     s,
                     " {:.1e} / {:.1e} |",

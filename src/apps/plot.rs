@@ -3,7 +3,7 @@
 //! `dejavu` crate, so no system font is needed).
 
 use crate::error::{Error, Result};
-use crate::io::legend::{register_font, FONT};
+use crate::io::legend::{register_font, tick_label, FONT};
 use crate::io::png::write_png;
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::prelude::*;
@@ -147,8 +147,13 @@ impl LinePlot {
             .y_label_area_size(64)
             .build_cartesian_2d(xs, ys)
             .map_err(|e| err(&e))?;
+        // Ticks as `tick_label` writes them, so that a log axis over many decades gets
+        // one short label per tick.
+        let label = |v: &f64| tick_label(*v);
         chart
             .configure_mesh()
+            .x_label_formatter(&label)
+            .y_label_formatter(&label)
             .x_desc(self.x.label.as_str())
             .y_desc(self.y.label.as_str())
             .label_style((FONT, 13))

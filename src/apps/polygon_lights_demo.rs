@@ -15,6 +15,9 @@ use crate::progress::Progress;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+/// The finest grid level of the full demo (`2^5` cells per axis).
+pub const PAPER_FINEST: u32 = 5;
+
 /// SH band limit of the demo (`l <= 8`, as in SHG Sec. 3.1).
 pub const DEMO_LMAX: usize = 8;
 
@@ -72,15 +75,19 @@ impl DemoReport {
     }
 }
 
-/// Runs the demo with grids of levels `levels` and writes `table.md` and
-/// `error_<scheme>_N<level>.png` (finest level) into `out` (created if missing),
-/// counting the exact coefficients and each grid level on `progress`.
-pub fn write_polygon_lights_demo(out: &Path, progress: &dyn Progress) -> Result<DemoReport> {
+/// Runs the demo with grids of levels `2..=finest` ([`PAPER_FINEST`] is the full demo's)
+/// and writes `table.md` and `error_<scheme>_N<finest>.png` into `out` (created if
+/// missing), counting the exact coefficients and each grid level on `progress`.
+pub fn write_polygon_lights_demo(
+    out: &Path,
+    finest: u32,
+    progress: &dyn Progress,
+) -> Result<DemoReport> {
     std::fs::create_dir_all(out).map_err(|e| io_error(out, e))?;
     let scene = demo_scene(64, 48, 7)?;
     let lights =
         PolygonalLights::new(scene.lights.clone(), DEMO_LMAX)?.with_horizon(scene.normal)?;
-    let levels = 2..=5u32;
+    let levels = 2..=finest.max(2);
     progress.start(
         "polygon-lights-demo: exact coefficients, then grid levels",
         1 + levels.clone().count() as u64,

@@ -199,7 +199,8 @@ impl Legend<'_> {
     }
 }
 
-/// A tick label: four significant digits, in exponent form outside `[0.01, 10^4)`.
+/// A tick label: four significant digits without trailing zeros, in exponent form outside
+/// `[0.01, 10^4)`.
 pub fn tick_label(x: f64) -> String {
     let a = x.abs();
     if a == 0.0 {
@@ -214,7 +215,11 @@ pub fn tick_label(x: f64) -> String {
         };
         s
     } else {
-        format!("{x:.3e}")
+        // Four significant digits, the mantissa's trailing zeros dropped: 1.5e-5, 1e-15.
+        let s = format!("{x:.3e}");
+        let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        format!("{mantissa}e{exponent}")
     }
 }
 
@@ -250,7 +255,9 @@ mod tests {
         assert_eq!(tick_label(0.5), "0.5");
         assert_eq!(tick_label(-0.01234), "-0.01234");
         assert_eq!(tick_label(123.456), "123.5");
-        assert_eq!(tick_label(1.5e-5), "1.500e-5");
+        assert_eq!(tick_label(1.5e-5), "1.5e-5");
+        assert_eq!(tick_label(1e-15), "1e-15");
+        assert_eq!(tick_label(-1.2346e5), "-1.235e5");
         assert_eq!(tick_label(90.0), "90");
     }
 }

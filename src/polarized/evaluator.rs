@@ -4,12 +4,12 @@
 //! hot loops that evaluate many vectors of one band limit (a renderer's vertices).
 
 use super::PshVector;
-use crate::error::{Error, Result};
+use crate::error::{check_len, Error, Result};
 use crate::geometry::direction_angles;
-use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
+use crate::geometry::frame::{Frame, FrameField, ThetaPhiFrameField};
 use crate::sh::harmonics::ShEvaluator;
 use crate::sh::num_coeffs;
-use crate::stokes::{StokesComponents, StokesVector};
+use crate::stokes::StokesVector;
 use crate::swsh::SpinEvaluator;
 use num_complex::Complex64;
 
@@ -22,6 +22,8 @@ pub struct PshEvaluator {
     spin: Option<SpinEvaluator>,
     yr: Vec<f64>,
     y2: Vec<Complex64>,
+    /// The basis weights of [`PshEvaluator::evaluate_into`], per coefficient.
+    weights: Vec<[[f64; 4]; 2]>,
 }
 
 impl PshEvaluator {
@@ -37,6 +39,7 @@ impl PshEvaluator {
             spin,
             yr: vec![0.0; num_coeffs(lmax)],
             y2: vec![Complex64::default(); num_coeffs(lmax)],
+            weights: Vec::with_capacity(num_coeffs(lmax)),
         })
     }
 
@@ -71,6 +74,21 @@ impl PshEvaluator {
     /// in the theta-phi frame there (PSH (28)). Errors: `v` above this evaluator's band
     /// limit, `w` not a unit vector.
     pub fn evaluate_all(&mut self, v: &PshVector, w: [f64; 3]) -> Result<Vec<StokesVector>> {
+        let mut s = vec![[0.0; 4]; v.channels()];
+        let frame = self.evaluate_into(v, w, &mut s)?;
+        StokesVector::all_in_frame(&s, frame)
+    }
+
+    /// [`PshEvaluator::evaluate_all`] without allocating, for hot loops: the components
+    /// `s0..s3` of every channel of `v` at `w` into `out` (one per channel), and the
+    /// theta-phi frame at `w` they are measured in (PSH (28)). Errors: as
+    /// [`PshEvaluator::evaluate_all`], and `out` not one per channel.
+    pub fn evaluate_into(
+        &mut self,
+        v: &PshVector,
+        w: [f64; 3],
+        out: &mut [[f64; 4]],
+    ) -> Result<Frame> {
         if v.lmax() > self.lmax() {
             return Err(Error::InvalidArgument {
                 name: "PSH vector lmax",
@@ -78,31 +96,49 @@ impl PshEvaluator {
                 reason: format!("the evaluator's band limit is {}", self.lmax()),
             });
         }
+        check_len("Stokes components per channel", v.channels(), out.len())?;
         // Scalar SH needs no spin-2 basis.
         self.fill(w, v.codomain().has_spin2())?;
         let frame = ThetaPhiFrameField::new().frame(w)?;
         let comps = v.codomain().components();
         let np = comps.len();
-        // The slot of each Stokes component in a coefficient's entries (absent: none).
-        let slot = |p: usize| comps.iter().position(|&q| q == p);
-        let (k0, k1, k2, k3) = (slot(0), slot(1), slot(2), slot(3));
         let n = num_coeffs(v.lmax());
-        v.data()
-            .chunks_exact(n * np)
-            .map(|x| {
-                let mut s = [0.0; 4];
-                for ((xj, &yr), &y2) in x.chunks_exact(np).zip(&self.yr).zip(&self.y2) {
-                    let at = |k: Option<usize>| k.map_or(0.0, |k| xj[k]);
-                    // f_lm1 2Y_lm + i f_lm2 2Y_lm = s1 + i s2 (PSH (29)-(30)).
-                    let (a, b) = (at(k1), at(k2));
-                    s[0] += at(k0) * yr;
-                    s[1] += a * y2.re - b * y2.im;
-                    s[2] += a * y2.im + b * y2.re;
-                    s[3] += at(k3) * yr;
+        // Per coefficient, the basis weights of PSH (29)-(30) on `x = (f0, f1, f2, f3)`:
+        // `a = x * (Y, Re 2Y, Re 2Y, Y)`, `b = x * (0, Im 2Y, Im 2Y, 0)` summed, then
+        // `s1 + i s2 = (f1 + i f2) 2Y` is `(a1 - b2, a2 + b1)`: four lanes per coefficient.
+        self.weights.clear();
+        self.weights.extend(
+            self.yr[..n]
+                .iter()
+                .zip(&self.y2[..n])
+                .map(|(&y, z)| [[y, z.re, z.re, y], [0.0, z.im, z.im, 0.0]]),
+        );
+        let full = comps == [0, 1, 2, 3];
+        for (x, s) in v.data().chunks_exact(n * np).zip(out.iter_mut()) {
+            let (mut a, mut b) = ([0.0; 4], [0.0; 4]);
+            let mut add = |xj: [f64; 4], [wa, wb]: &[[f64; 4]; 2]| {
+                for q in 0..4 {
+                    a[q] += xj[q] * wa[q];
+                    b[q] += xj[q] * wb[q];
                 }
-                Ok(StokesVector::new(StokesComponents::new(s)?, frame))
-            })
-            .collect()
+            };
+            if full {
+                for (xj, w) in x.chunks_exact(4).zip(&self.weights) {
+                    add([xj[0], xj[1], xj[2], xj[3]], w);
+                }
+            } else {
+                for (xj, w) in x.chunks_exact(np).zip(&self.weights) {
+                    // The components of the codomain in their Stokes slots, zero elsewhere.
+                    let mut full_x = [0.0; 4];
+                    for (&c, &p) in xj.iter().zip(comps) {
+                        full_x[p] = c;
+                    }
+                    add(full_x, w);
+                }
+            }
+            *s = [a[0], a[1] - b[2], a[2] + b[1], a[3]];
+        }
+        Ok(frame)
     }
 }
 

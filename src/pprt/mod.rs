@@ -38,7 +38,9 @@ pub use mesh::Mesh;
 pub use mirrored::MirroredBelow;
 pub use plan::{tangent_plane_visibility, MaterialPlan, Plan, Reason, StokesEvidence};
 pub use reference::{Fidelity, Reference, ReferenceSettings, Workspace, MAX_PIXEL_GRID};
-pub use reflected::{high_order_kernel, reflected_pbrdf, reflected_radiance};
+pub use reflected::{
+    high_order_kernel, reflected_pbrdf, reflected_radiance, reflected_radiance_into,
+};
 pub use render::{
     direct_light, primary_hits, render_frame, vertex_stokes, StokesImage, UnphysicalPixels,
 };

@@ -15,6 +15,7 @@
 //! direction `R_n^-1 w_o = 2 (n . w_o) n - w_o` and turned by `R_n`.
 
 use crate::error::Result;
+use crate::geometry::frame::Frame;
 use crate::polarized::{
     project_to_convolution, KernelCoefficients, PshEvaluator, PshMatrix, PshVector,
 };
@@ -62,17 +63,25 @@ pub fn reflected_radiance(
     n: [f64; 3],
     wo: [f64; 3],
 ) -> Result<Vec<StokesVector>> {
+    let mut s = vec![[0.0; 4]; h.channels()];
+    let frame = reflected_radiance_into(eval, h, n, wo, &mut s)?;
+    StokesVector::all_in_frame(&s, frame)
+}
+
+/// [`reflected_radiance`] without allocating, for a renderer's loop: the components of
+/// every channel into `out` (one per channel) and the frame of the ray `w_o` they are
+/// measured in.
+pub fn reflected_radiance_into(
+    eval: &mut PshEvaluator,
+    h: &PshVector,
+    n: [f64; 3],
+    wo: [f64; 3],
+    out: &mut [[f64; 4]],
+) -> Result<Frame> {
     let nv = Vector3::from(n);
     let w = Vector3::from(wo);
     let r = 2.0 * nv.dot(&w) * nv - w;
     let turn = Rotation3::from_axis_angle(&Unit::new_normalize(nv), std::f64::consts::PI);
-    let all = eval.evaluate_all(h, [r.x, r.y, r.z])?;
     // One frame for every channel (the theta-phi frame at `r`), turned once.
-    let Some(frame) = all.first().map(|s| s.frame().rotated(&turn)).transpose()? else {
-        return Ok(all);
-    };
-    Ok(all
-        .into_iter()
-        .map(|s| StokesVector::new(s.components(), frame))
-        .collect())
+    eval.evaluate_into(h, [r.x, r.y, r.z], out)?.rotated(&turn)
 }

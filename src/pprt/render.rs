@@ -9,13 +9,13 @@
 //! `x` image-right, `y` image-up.
 
 use super::direct::DirectLights;
-use super::reflected::reflected_radiance;
+use super::reflected::reflected_radiance_into;
 use super::scene::{Camera, Hit, Scene};
 use super::transfer::VertexTransfer;
 use crate::error::{check_len, Result};
 use crate::geometry::frame::{Frame, FrameField, PerspectiveFrameField};
 use crate::polarized::{PshEvaluator, PshVector};
-use crate::stokes::{StokesComponents, StokesVector};
+use crate::stokes::{FrameChange, StokesComponents, StokesVector};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
@@ -252,8 +252,8 @@ fn vertex_stokes_of(
     let values = jobs
         .par_iter()
         .map_init(
-            || (low.clone(), high_eval.clone()),
-            |(low, high_eval), &(o, k)| {
+            || (low.clone(), high_eval.clone(), Vec::new()),
+            |(low, high_eval, channels), &(o, k)| {
                 let object = &scene.objects()[o];
                 let (p, n, vt) = (
                     object.mesh.positions()[k],
@@ -265,20 +265,23 @@ fn vertex_stokes_of(
                 let local = vt.rotation.inverse() * v;
                 let out_frame = camera_travel_frame(&field, wo)?;
                 let mut s = [[0.0; 4]; 3];
-                let all = low.evaluate_all(&vt.radiance, [local.x, local.y, local.z])?;
-                // One frame for every channel (the theta-phi frame at `local`).
-                if let Some(first) = all.first() {
-                    let frame = first.frame().rotated(&vt.rotation)?;
-                    for (sc, sl) in s.iter_mut().zip(&all) {
-                        let world = StokesVector::new(sl.components(), frame);
-                        *sc = world.components_in(&out_frame)?.to_array();
-                    }
-                }
-                if let Some(h) = &high[object.material] {
-                    for (sc, sh) in s.iter_mut().zip(reflected_radiance(high_eval, h, n, wo)?) {
-                        let x = sh.components_in(&out_frame)?.to_array();
+                // Each term's channels share one frame: one conversion PSH (14) per term.
+                let mut add = |channels: &[[f64; 4]], frame: &Frame| -> Result<()> {
+                    let change = FrameChange::between(frame, &out_frame)?;
+                    for (sc, x) in s.iter_mut().zip(channels) {
+                        let x = change.components(*x);
                         sc.iter_mut().zip(x).for_each(|(a, b)| *a += b);
                     }
+                    Ok(())
+                };
+                channels.resize(vt.radiance.channels(), [0.0; 4]);
+                let local_frame =
+                    low.evaluate_into(&vt.radiance, [local.x, local.y, local.z], channels)?;
+                add(channels, &local_frame.rotated(&vt.rotation)?)?;
+                if let Some(h) = &high[object.material] {
+                    channels.resize(h.channels(), [0.0; 4]);
+                    let frame = reflected_radiance_into(high_eval, h, n, wo, channels)?;
+                    add(channels, &frame)?;
                 }
                 Ok(s)
             },

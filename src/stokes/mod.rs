@@ -33,6 +33,7 @@
 mod complex_pair;
 mod components;
 mod field;
+mod frame_change;
 mod mueller;
 mod mueller_field;
 mod valid_range;
@@ -41,6 +42,7 @@ mod vector;
 pub use complex_pair::{complex_pair, from_complex_pair};
 pub use components::StokesComponents;
 pub use field::convert_between_fields;
+pub use frame_change::FrameChange;
 pub use mueller::{rotator, MuellerMatrix, MuellerTransform};
 pub use mueller_field::MuellerField;
 pub use vector::{Spin2StokesVector, StokesVector};

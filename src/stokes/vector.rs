@@ -6,16 +6,12 @@
 //! vectors (PSH (17), (18)) first convert to a common frame and fail for different rays.
 
 use super::components::StokesComponents;
+use super::frame_change::FrameChange;
 use crate::error::relabel;
 use crate::error::{finite, Result};
 use crate::geometry::frame::{Frame, FrameField};
 use nalgebra::{Rotation3, Vector2, Vector3, Vector4};
 use num_complex::Complex64;
-
-/// `e^{-2 i vartheta} z` from `(cos vartheta, sin vartheta)`: PSH (14) on `s1 + i s2`.
-fn spin2_convert(z: Complex64, c: f64, s: f64) -> Complex64 {
-    Complex64::new(c * c - s * s, -2.0 * c * s) * z
-}
 
 /// A Stokes vector `[s]_F` (PSH (15)): the polarization state of a ray along the frame's
 /// `z` axis, stored as components `s` measured in the frame `F`. Two `StokesVector`s that
@@ -32,6 +28,14 @@ impl StokesVector {
     /// `[s]_F` (PSH (15)): the Stokes vector whose components in `frame` are `s`.
     pub fn new(s: StokesComponents, frame: Frame) -> Self {
         Self { s, frame }
+    }
+
+    /// `[s_k]_F` for each of the components `s` (channels measured in one frame). Error: a
+    /// non-finite component.
+    pub fn all_in_frame(s: &[[f64; 4]], frame: Frame) -> Result<Vec<Self>> {
+        s.iter()
+            .map(|&x| Ok(Self::new(StokesComponents::new(x)?, frame)))
+            .collect()
     }
 
     /// `[s]_F` from the frame field `field` at the direction `w` (the frame
@@ -99,16 +103,10 @@ impl StokesVector {
     /// another ray ([`crate::Error::DifferentRays`], tolerance
     /// [`crate::geometry::frame::RAY_TOLERANCE`]).
     pub fn components_in(&self, frame: &Frame) -> Result<StokesComponents> {
-        let (c, s) = self
-            .frame
-            .cos_sin_to(frame)
+        let change = FrameChange::between(&self.frame, frame)
             .map_err(|e| relabel(e, "Stokes vector read in a frame"))?;
-        let z = spin2_convert(Complex64::new(self.s.s1(), self.s.s2()), c, s);
-        Ok(StokesComponents::from_vector_unchecked(Vector4::new(
-            self.s.s0(),
-            z.re,
-            z.im,
-            self.s.s3(),
+        Ok(StokesComponents::from_vector_unchecked(Vector4::from(
+            change.components(self.s.to_array()),
         )))
     }
 
@@ -211,11 +209,9 @@ impl Spin2StokesVector {
 
     /// `s1 + i s2` in another frame of the ray (PSH (14)). Error: different rays.
     pub fn complex_in(&self, frame: &Frame) -> Result<Complex64> {
-        let (c, s) = self
-            .frame
-            .cos_sin_to(frame)
+        let change = FrameChange::between(&self.frame, frame)
             .map_err(|e| relabel(e, "spin-2 Stokes vector read in a frame"))?;
-        Ok(spin2_convert(self.z, c, s))
+        Ok(change.spin2(self.z))
     }
 
     /// `[s1, s2]` in another frame of the ray (PSH (14), (16)). Error: different rays.
