@@ -9,6 +9,7 @@
 
 use crate::apps::plot::{Axis, LinePlot, Series};
 use crate::error::{Error, Result};
+use crate::io::tick_label;
 use crate::io::write_text;
 use crate::pprt::plan::Plan;
 use crate::pprt::reference::{Fidelity, Reference, ReferenceSettings};
@@ -454,9 +455,26 @@ fn plot_fig19(rows: &[Row], l_max: usize, path: &Path) -> Result<()> {
         .iter()
         .filter(|r| r.method == "pprt" && r.setting == "full")
         .collect();
-    let (y0, y1) = decades(full.iter().flat_map(|r| r.rmse));
+    // Six decades under the largest error: below them a component is zero to rounding
+    // (`s3` of an unpolarized scene) and would flatten the others.
+    let top = full.iter().flat_map(|r| r.rmse).fold(0.0f64, f64::max);
+    let floor = top * 1e-6;
+    let (y0, y1) = decades(full.iter().flat_map(|r| r.rmse).filter(|&e| e >= floor));
+    let hidden: Vec<String> = (0..4)
+        .filter(|&q| full.iter().all(|r| r.rmse[q] < floor))
+        .map(|q| format!("s{q}"))
+        .collect();
+    let title = if hidden.is_empty() {
+        "PPRT full against the ground truth (PSH Fig. 19)".to_string()
+    } else {
+        format!(
+            "PPRT full against the ground truth (PSH Fig. 19; {} below {}, not drawn)",
+            hidden.join(", "),
+            tick_label(floor)
+        )
+    };
     let mut plot = LinePlot::new(
-        "PPRT full against the ground truth (PSH Fig. 19)",
+        &title,
         Axis::linear("band limit l_max", (2.0, l_max.max(3) as f64)),
         Axis::log("RMSE", (10f64.powf(y0), 10f64.powf(y1))),
     )?;
@@ -470,6 +488,7 @@ fn plot_fig19(rows: &[Row], l_max: usize, path: &Path) -> Result<()> {
             dashed: false,
             points: full
                 .iter()
+                .filter(|r| r.rmse[q] >= floor)
                 .map(|r| (r.l_max.unwrap_or(0) as f64, r.rmse[q]))
                 .collect(),
         });

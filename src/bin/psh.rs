@@ -146,6 +146,10 @@ struct FiguresArgs {
     /// Smaller sizes: every figure in under a minute on 2 vCPUs.
     #[arg(long)]
     quick: bool,
+    /// A Python interpreter with the `mitsuba` package (Mitsuba 3): PSH Fig. 19 also
+    /// against Mitsuba 3's render of scenes/mitsuba_sky.toml.
+    #[arg(long)]
+    mitsuba: Option<PathBuf>,
 }
 
 #[derive(Args)]
@@ -848,7 +852,10 @@ fn lights_demo(a: &LightsDemoArgs) -> ExitCode {
 
 fn figures(a: &FiguresArgs) -> ExitCode {
     use psh::figures;
-    let options = figures::FigureOptions { quick: a.quick };
+    let options = figures::FigureOptions {
+        quick: a.quick,
+        mitsuba: a.mitsuba.clone(),
+    };
     let done = |r: &figures::FigureReport| {
         let verdict = r.comparison.as_ref().map_or(String::new(), |c| {
             let holds = if c.holds { "holds" } else { "DOES NOT HOLD" };

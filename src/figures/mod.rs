@@ -18,6 +18,7 @@ mod fig19;
 mod fig20;
 mod fig22;
 mod isd;
+mod mitsuba;
 mod naive;
 mod panels;
 mod pf;
@@ -33,10 +34,13 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// How a figure is computed.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct FigureOptions {
     /// Smaller sizes (every figure, then, in under a minute on 2 vCPUs).
     pub quick: bool,
+    /// A Python interpreter with the `mitsuba` package: PSH Fig. 19 also against
+    /// Mitsuba 3, as the paper did.
+    pub mitsuba: Option<PathBuf>,
 }
 
 /// What a figure computed: its pictures, its numbers, and its comparison.
@@ -213,9 +217,10 @@ pub const FIGURES: &[Figure] = &[
     Figure {
         id: "PSH 19",
         stem: "fig19",
-        caption: "PPRT against a high-sample ground truth of the reference renderer: the \
-                  RMSE of each Stokes component falls with l_max; run time against error \
-                  beside the reference's sample ladder.",
+        caption: "PPRT against a high-sample ground truth of the reference renderer and \
+                  (with --mitsuba) against Mitsuba 3: the RMSE of each Stokes component \
+                  falls with l_max; run time against error beside the reference's sample \
+                  ladder.",
         equations: "PSH (41), (54)-(56), (69)",
         checks: "pprt.reference_vs_pprt, pprt.reflected_convolution",
         run: fig19::run,
@@ -460,7 +465,10 @@ mod tests {
         let reports = run(
             &select(&[]).unwrap(),
             &dir,
-            &FigureOptions { quick: true },
+            &FigureOptions {
+                quick: true,
+                mitsuba: None,
+            },
             &Silent,
             &|_| {},
         )
