@@ -764,3 +764,31 @@ fn a_frame_reads_only_the_vertices_it_sees() {
     }
     assert!(surface > 300, "{surface} surface pixels");
 }
+
+/// A frame is the same bit for bit on one thread and on three (each seen vertex is
+/// evaluated on its own, each pixel interpolates its own triangle).
+#[test]
+fn a_frame_does_not_depend_on_the_thread_count() {
+    use psh::pprt::{direct_light, high_order_fields, primary_hits, render_frame};
+    let scene = builtin_scene(6, 40, 30).unwrap();
+    let settings = TransferSettings {
+        l_low: 3,
+        l_high: 6,
+        rays: 32,
+        visibility: psh::pprt::Visibility::Rays,
+    };
+    let transfer = precompute(&scene, settings).unwrap();
+    let high = high_order_fields(&scene, settings).unwrap();
+    let hits = primary_hits(&scene);
+    let direct = direct_light(&scene, &hits).unwrap();
+    let frame = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| render_frame(&scene, &transfer, &high, &hits, &direct).unwrap())
+    };
+    let (one, three) = (frame(1), frame(3));
+    assert!(one.channels.iter().flatten().any(|s| s[1] != 0.0));
+    assert_eq!(one.channels, three.channels);
+}
