@@ -47,5 +47,7 @@ pub use rotation::PshRotation;
 pub use sparse::{SparsePshMatrix, Sparsity};
 pub use synthesis::reconstruct_image;
 pub use transform::PshTransform;
-pub use triple::{spin2_gaunt, visibility_transfer, visibility_transfer_quadrature, TripleTable};
+pub use triple::{
+    spin2_gaunt, visibility_transfer, visibility_transfer_quadrature, TripleTable, RECENT_TABLES,
+};
 pub use vector::PshVector;

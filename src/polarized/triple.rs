@@ -18,6 +18,7 @@ use crate::sh::{check_lmax, lm_index, num_coeffs};
 use crate::sh::{wigner_3j_row, wigner_3j_row_into, GauntBasis, GauntTable};
 use num_complex::Complex64;
 use std::f64::consts::{FRAC_1_SQRT_2, PI};
+use std::sync::{Arc, Mutex};
 
 /// `(-1)^n`.
 fn parity(n: i64) -> f64 {
@@ -264,12 +265,44 @@ fn check_scalar_field(v: &PshVector) -> Result<()> {
 
 /// The PSH matrix of the shadowing operator `f -> V f` (PSH (54)-(56)) for the visibility
 /// `V = sum v_{lm} Y^R_{lm}` (real SH, PSH (12), a one-channel scalar field of degree
-/// `lv`), band limit `lmax`, from and to fields indexed as `v`. For many visibilities
-/// build a [`TripleTable`] once.
+/// `lv`), band limit `lmax`, from and to fields indexed as `v`. The couplings are built
+/// once per `(lv, lmax)` and reused by later calls (the [`RECENT_TABLES`] most recently
+/// used are kept); [`TripleTable`] holds them explicitly.
 pub fn visibility_transfer(v: &PshVector, lmax: usize) -> Result<PshMatrix> {
     // Checked before the table is built.
     check_scalar_field(v)?;
-    TripleTable::new(v.lmax(), lmax)?.transfer(v)
+    shared_table(v.lmax(), lmax)?.transfer(v)
+}
+
+/// How many full tables [`visibility_transfer`] keeps between calls.
+pub const RECENT_TABLES: usize = 4;
+
+/// The full table of `(lv, lmax)`: reused if among the [`RECENT_TABLES`] most recently
+/// used, else built (outside the lock) and kept in place of the least recently used.
+fn shared_table(lv: usize, lmax: usize) -> Result<Arc<TripleTable>> {
+    static RECENT: Mutex<Vec<Arc<TripleTable>>> = Mutex::new(Vec::new());
+    let find = |tables: &mut Vec<Arc<TripleTable>>| {
+        let i = tables.iter().position(|t| (t.lv, t.lmax) == (lv, lmax))?;
+        let t = tables.remove(i);
+        tables.push(t.clone());
+        Some(t)
+    };
+    // A poisoned lock only means another thread panicked while holding it: the list is
+    // still a list of complete tables.
+    let lock = || RECENT.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(t) = find(&mut lock()) {
+        return Ok(t);
+    }
+    let t = Arc::new(TripleTable::new(lv, lmax)?);
+    let mut tables = lock();
+    if let Some(found) = find(&mut tables) {
+        return Ok(found);
+    }
+    if tables.len() == RECENT_TABLES {
+        tables.remove(0);
+    }
+    tables.push(t.clone());
+    Ok(t)
 }
 
 /// Direct evaluation of PSH (54) on an exact grid, for tests and `psh verify`:
@@ -354,6 +387,21 @@ mod tests {
             .unwrap();
         let want = table.shadow(&v, &f).unwrap().converted(travel.argument());
         assert!(max_diff(both.data(), want.data()) < 1e-13);
+    }
+
+    /// `visibility_transfer` reuses the table of a `(lv, lmax)` it has built and keeps at
+    /// most `RECENT_TABLES` of them; its matrices are the explicit table's.
+    #[test]
+    fn visibility_transfer_reuses_recent_tables() {
+        let first = shared_table(3, 2).unwrap();
+        assert!(Arc::ptr_eq(&first, &shared_table(3, 2).unwrap()));
+        for lv in 0..=RECENT_TABLES {
+            let v = PshVector::scalar(lv, pseudo_random(num_coeffs(lv), 9)).unwrap();
+            let got = visibility_transfer(&v, 3).unwrap();
+            let want = TripleTable::new(lv, 3).unwrap().transfer(&v).unwrap();
+            assert_eq!(got.data(), want.data(), "lv {lv}");
+        }
+        assert!(!Arc::ptr_eq(&first, &shared_table(3, 2).unwrap()));
     }
 
     fn max_diff(a: &[f64], b: &[f64]) -> f64 {

@@ -7,12 +7,14 @@
 //! with the Condon-Shortley phase in `P_l^m` (PSH (1)); real SH by PSH (12); coefficients
 //! stored in flat order `l*l + l + m`.
 
+pub(crate) mod column_recursion;
 mod double_double;
 pub(crate) mod gaunt;
 pub(crate) mod gaunt_table;
 pub(crate) mod grid;
 pub(crate) mod harmonics;
 pub(crate) mod legendre;
+pub(crate) mod order_transform;
 pub(crate) mod pixel;
 pub(crate) mod solid;
 pub(crate) mod transform;

@@ -1,20 +1,19 @@
 //! [`SpinEvaluator`]: the spin-`s` harmonics `sY_lm` at any direction from the recursion of
 //! `swsh::recursion`, `O(lmax^2)` per direction.
 
-use super::recursion::{column_index, columns, Column, HalfAngle, StartWalk};
 use crate::error::{check_len, Error, Result};
+use crate::sh::column_recursion::{Columns, HalfAngle, StartWalk};
 use crate::sh::legendre::{lane_scale, rescale_lanes, LANE_BLOCK};
 use crate::sh::{lm_index, num_coeffs};
 use num_complex::Complex64;
+use std::sync::Arc;
 
 /// The recursion tables of the spin-`s` harmonics up to `lmax`: evaluates
 /// `Lambda_lm(theta)` for every order at any polar angle, `O(lmax^2)` per angle.
 #[derive(Clone, Debug)]
 pub struct SpinEvaluator {
-    pub(super) spin: i64,
-    pub(super) lmax: usize,
-    /// In walk order: `m = -|s|..=|s|` (seeds), then `-(|s|+1), |s|+1, -(|s|+2), ...`.
-    pub(super) columns: Vec<Column>,
+    /// Shared with the [`super::SpinTransform`] built on them.
+    pub(super) columns: Arc<Columns>,
 }
 
 impl SpinEvaluator {
@@ -31,20 +30,18 @@ impl SpinEvaluator {
             });
         }
         Ok(Self {
-            spin,
-            lmax,
-            columns: columns(spin, lmax),
+            columns: Arc::new(Columns::new(spin, lmax)),
         })
     }
 
     /// The band limit.
     pub fn lmax(&self) -> usize {
-        self.lmax
+        self.columns.lmax
     }
 
-    /// The index of the column of order `m` in walk order.
-    pub(super) fn column_index(&self, m: i64) -> usize {
-        column_index(self.spin, m)
+    /// The spin weight.
+    pub fn spin(&self) -> i64 {
+        self.columns.spin
     }
 
     /// Walks the orders at `N` polar angles at once (given by their half angles):
@@ -61,12 +58,13 @@ impl SpinEvaluator {
         scratch: &mut Vec<[f64; N]>,
         mut f: impl FnMut(i64, usize, &[[f64; N]]),
     ) {
-        scratch.resize(self.lmax + 1, [0.0; N]);
+        let lmax = self.lmax();
+        scratch.resize(lmax + 1, [0.0; N]);
         let u = half.map(|h| h.u());
-        let mut walk = StartWalk::new(half, self.spin);
-        for col in &self.columns {
+        let mut walk = StartWalk::new(half, self.spin());
+        for col in &self.columns.list {
             let (mut p1, mut exp) = walk.next(col);
-            let out = &mut scratch[..=self.lmax - col.l0];
+            let out = &mut scratch[..=lmax - col.l0];
             let mut p2 = [0.0; N];
             let mut scaled = exp.iter().any(|&e| e < 0);
             let mut fac = lane_scale(&exp);
@@ -112,7 +110,7 @@ impl SpinEvaluator {
     pub fn values(&self, theta: f64, phi: f64, out: &mut [Complex64]) -> Result<()> {
         crate::geometry::check_theta(theta)?;
         crate::error::finite("phi", phi)?;
-        check_len("spin SH output", num_coeffs(self.lmax), out.len())?;
+        check_len("spin SH output", num_coeffs(self.lmax()), out.len())?;
         out.fill(Complex64::default());
         let mut cis = crate::sh::harmonics::CisWalk::new(phi);
         self.for_each_order(theta, |m, l0, lambda| {

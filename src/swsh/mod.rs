@@ -18,11 +18,10 @@
 //! grid).
 
 pub(crate) mod evaluator;
-mod recursion;
 pub(crate) mod transform;
 
+pub(crate) use crate::sh::column_recursion::HalfAngle;
 pub use evaluator::SpinEvaluator;
-pub(crate) use recursion::HalfAngle;
 pub use transform::SpinTransform;
 
 use crate::error::{finite, Error, Result};

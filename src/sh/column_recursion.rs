@@ -1,6 +1,9 @@
 //! The recursion of the spin-weighted harmonics `Lambda_lm(theta)`, with
 //! `sY_lm = Lambda_lm(theta) e^{i m phi}`,
 //! `Lambda_lm = (-1)^s sqrt((2l+1)/(4 pi)) d^l_{m,-s}`: its coefficients and its starts.
+//! At spin 0, `Lambda_lm = Pbar_lm` (`d^l_{m0} = sqrt((l-m)!/(l+m)!) P_l^m`): the scalar
+//! transforms of [`super::ShTransform`] run on it as the spin transforms of
+//! `crate::swsh` do.
 //!
 //! Per polar angle, `Lambda_lm` for `l = l0..=lmax` (`l0 = max(|m|, |s|)`) comes from the
 //! three-term recursion of the Wigner d in `l` at fixed `(m, m')`, in the `u = 1 - cos theta`
@@ -17,7 +20,7 @@
 //! recursion, so that nothing overflows or underflows, and run on many polar angles at
 //! once in lock step (lanes), as [`crate::sh::legendre::Legendre::for_each_column_lanes`].
 
-use crate::sh::legendre::{BIG, SCALE_BITS, SMALL};
+use super::legendre::{BIG, SCALE_BITS, SMALL};
 use std::f64::consts::PI;
 
 /// `cos(theta/2)`, `sin(theta/2)` of a polar angle in `[0, pi]`: the variables of the start
@@ -36,7 +39,7 @@ impl HalfAngle {
     }
 
     /// `u = 1 - cos theta = 2 sin^2(theta/2)`, the variable of the recursion.
-    pub(super) fn u(&self) -> f64 {
+    pub(crate) fn u(&self) -> f64 {
         2.0 * self.sin * self.sin
     }
 
@@ -76,15 +79,42 @@ enum Start {
 /// `k = 0` (from `p_{-1} = 0`, `p_{-2} = -start` it gives the start), then `l = l0 + 1..=lmax`,
 /// then `[0, 0, 0]` if needed to make the count even (a zero value past `lmax`).
 #[derive(Clone, Debug)]
-pub(super) struct Column {
-    pub(super) m: i64,
-    pub(super) l0: usize,
+pub(crate) struct Column {
+    pub(crate) m: i64,
+    pub(crate) l0: usize,
     start: Start,
-    pub(super) coeffs: Vec<[f64; 3]>,
+    pub(crate) coeffs: Vec<[f64; 3]>,
 }
-/// The columns of spin `s` up to `lmax`, `1 <= |s| <= lmax`, in walk order:
+/// The columns of spin `s` up to `lmax` (`|s| <= lmax`, unchecked), in walk order:
 /// `m = -|s|..=|s|` (seeds), then `-(|s|+1), |s|+1, -(|s|+2), ...` (diagonal steps).
-pub(super) fn columns(spin: i64, lmax: usize) -> Vec<Column> {
+#[derive(Clone, Debug)]
+pub(crate) struct Columns {
+    pub(crate) spin: i64,
+    pub(crate) lmax: usize,
+    pub(crate) list: Vec<Column>,
+}
+
+impl Columns {
+    pub(crate) fn new(spin: i64, lmax: usize) -> Self {
+        Self {
+            spin,
+            lmax,
+            list: columns(spin, lmax),
+        }
+    }
+
+    /// The index of the column of order `m` in walk order.
+    pub(crate) fn index(&self, m: i64) -> usize {
+        column_index(self.spin, m)
+    }
+
+    /// The column of order `m`.
+    pub(crate) fn of(&self, m: i64) -> &Column {
+        &self.list[self.index(m)]
+    }
+}
+
+fn columns(spin: i64, lmax: usize) -> Vec<Column> {
     let parity = if spin % 2 == 0 { 1.0 } else { -1.0 };
     // (-1)^s sqrt((2l+1)/(4 pi)), Lambda_lm = norm_l d^l_{m,-s}.
     let norms: Vec<f64> = (0..=lmax)
@@ -113,7 +143,7 @@ pub(super) fn columns(spin: i64, lmax: usize) -> Vec<Column> {
 }
 
 /// The index of the column of order `m` in the walk order of [`columns`].
-pub(super) fn column_index(spin: i64, m: i64) -> usize {
+fn column_index(spin: i64, m: i64) -> usize {
     let s = spin.abs();
     if m.abs() <= s {
         (m + s) as usize
@@ -125,7 +155,7 @@ pub(super) fn column_index(spin: i64, m: i64) -> usize {
 /// The starts of the columns' recursions at `N` polar angles, column after column in walk
 /// order: seeds from their closed form, the others by the diagonal step from the outermost
 /// start of their side.
-pub(super) struct StartWalk<const N: usize> {
+pub(crate) struct StartWalk<const N: usize> {
     log_c: [f64; N],
     log_s: [f64; N],
     /// `cos(theta/2) sin(theta/2)`.
@@ -136,7 +166,7 @@ pub(super) struct StartWalk<const N: usize> {
 }
 
 impl<const N: usize> StartWalk<N> {
-    pub(super) fn new(half: &[HalfAngle; N], spin: i64) -> Self {
+    pub(crate) fn new(half: &[HalfAngle; N], spin: i64) -> Self {
         Self {
             log_c: half.map(|h| h.cos.log2()),
             log_s: half.map(|h| h.sin.log2()),
@@ -147,7 +177,7 @@ impl<const N: usize> StartWalk<N> {
     }
 
     /// The start `Lambda_{l0,m}` of `col`, the next column in walk order.
-    pub(super) fn next(&mut self, col: &Column) -> ([f64; N], [i32; N]) {
+    pub(crate) fn next(&mut self, col: &Column) -> ([f64; N], [i32; N]) {
         let side = usize::from(col.m > 0);
         let start = match col.start {
             Start::Seed { log, a, b, sign } => {
@@ -166,7 +196,12 @@ impl<const N: usize> StartWalk<N> {
             }
         };
         if col.m.unsigned_abs() as usize == self.spin {
-            self.edge[side] = start;
+            // Spin 0: the seed m = 0 starts both sides.
+            if self.spin == 0 {
+                self.edge = [start; 2];
+            } else {
+                self.edge[side] = start;
+            }
         }
         start
     }
@@ -216,6 +251,11 @@ fn recursion_coefficients(m: i64, mp: i64, l0: usize, lmax: usize, norms: &[f64]
     let steps = (l0 + 1..=lmax).map(|l| {
         let lf = l as f64;
         let big_a = lf * (2.0 * lf - 1.0) / ((lf * lf - mf * mf) * (lf * lf - mpf * mpf)).sqrt();
+        if l == 1 {
+            // Only from l0 = 0 (spin 0, m = 0): d^1_00 = cos theta = 1 - u, and
+            // d^{-1} = 0 (the limits of B_1 and c_1 are 0 and 1).
+            return [big_a * (norms[1] / norms[0]), 0.0, 1.0];
+        }
         let l1 = lf - 1.0;
         let big_b = ((l1 * l1 - mf * mf) * (l1 * l1 - mpf * mpf)).sqrt() / (l1 * (2.0 * lf - 1.0));
         let c = 1.0 - mf * mpf / (lf * l1);
