@@ -12,9 +12,6 @@ use psh::swsh::SpinEvaluator;
 use pyo3::prelude::*;
 use rayon::prelude::*;
 
-/// Directions per parallel task.
-const CHUNK: usize = 256;
-
 /// Real SH `Y^R_lm` PSH (12) for all `l <= lmax` at unit directions `dirs` of shape
 /// `(..., 3)`: shape `(..., (lmax+1)^2)`, flat index `l*l + l + m`.
 #[pyfunction]
@@ -28,12 +25,8 @@ fn sh_real<'py>(
     let (lead, w) = rows::<3>(&a, "directions")?;
     let n = num_coeffs(lmax);
     let mut out = vec![0.0; checked_len("SH values", &[w.len(), n])?];
-    py.detach(|| {
-        out.par_chunks_mut(CHUNK * n)
-            .zip(w.par_chunks(CHUNK))
-            .try_for_each(|(o, d)| eval.real_batch(d, o))
-    })
-    .py_err()?;
+    // real_batch runs blocks of directions in parallel itself.
+    py.detach(|| eval.real_batch(w, &mut out)).py_err()?;
     owned(py, &[lead, vec![n]].concat(), out)
 }
 

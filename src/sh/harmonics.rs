@@ -6,12 +6,15 @@
 //!
 //! Values are stored in flat order `l*l + l + m` ([`super::lm_index`]).
 
+use super::cartesian;
 use super::legendre::{for_each_column_accurate, Legendre, Polar};
 use super::{lm_index, num_coeffs};
 use crate::error::{check_len, finite, Result};
 use crate::geometry::{check_direction, check_theta, direction_angles, UNIT_TOLERANCE};
 use num_complex::Complex64;
+use rayon::prelude::*;
 use std::f64::consts::SQRT_2;
+use wide::f64x4;
 
 /// Entry `U_{m mu}` of the unitary complex-to-real change of basis of PSH (12):
 /// `Y^R_{lm} = sum_mu U_{m mu} Y_{l mu}`; nonzero only for `mu = ±m`.
@@ -202,35 +205,80 @@ impl ShEvaluator {
             }
             return Ok(());
         };
-        let mut tile = vec![[0.0; LANES]; n];
-        let mut scratch = Vec::new();
-        for (chunk, rows) in dirs.chunks(LANES).zip(out.chunks_mut(LANES * n)) {
-            let mut polars = [Polar::from_z_rho(1.0, 0.0); LANES];
-            let mut cis = [(1.0, 0.0); LANES];
-            for (j, &w) in chunk.iter().enumerate() {
-                let norm2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-                if (norm2 - 1.0).abs().partial_cmp(&(2.0 * UNIT_TOLERANCE))
-                    != Some(std::cmp::Ordering::Less)
-                {
-                    check_direction(w)?;
+        // Blocks of directions in parallel: each row is computed by one task, the same bits
+        // on any thread count.
+        let cartesian = |(chunk, rows): (&[[f64; 3]], &mut [f64])| -> Result<()> {
+            let mut tile = vec![f64x4::ZERO; n];
+            for (chunk, rows) in chunk.chunks(cartesian::LANES).zip(rows.chunks_mut(4 * n)) {
+                for &w in chunk {
+                    check_unit(w)?;
                 }
-                let rho = (w[0] * w[0] + w[1] * w[1]).sqrt();
-                polars[j] = Polar::from_z_rho(w[2], rho);
-                if rho > 0.0 {
-                    let inv = 1.0 / rho;
-                    cis[j] = (w[0] * inv, w[1] * inv);
+                let last = chunk[chunk.len() - 1];
+                let lanes = std::array::from_fn(|j| *chunk.get(j).unwrap_or(&last));
+                cartesian::real_lanes(table, &lanes, &mut tile);
+                for (j, row) in rows.chunks_exact_mut(n).enumerate() {
+                    for (o, t) in row.iter_mut().zip(&tile) {
+                        *o = t.to_array()[j];
+                    }
                 }
             }
-            real_lanes(table, &polars, &cis, &mut scratch, &mut tile);
-            for (j, row) in rows.chunks_exact_mut(n).enumerate() {
-                for (o, t) in row.iter_mut().zip(&tile) {
-                    *o = t[j];
+            Ok(())
+        };
+        let block = |(chunk, rows): (&[[f64; 3]], &mut [f64])| -> Result<()> {
+            if self.lmax <= cartesian::CARTESIAN_LMAX {
+                return cartesian((chunk, rows));
+            }
+            let mut tile = vec![[0.0; LANES]; n];
+            let mut scratch = Vec::new();
+            for (chunk, rows) in chunk.chunks(LANES).zip(rows.chunks_mut(LANES * n)) {
+                let mut polars = [Polar::from_z_rho(1.0, 0.0); LANES];
+                let mut cis = [(1.0, 0.0); LANES];
+                for (j, &w) in chunk.iter().enumerate() {
+                    check_unit(w)?;
+                    // Normalized: a direction within the unit tolerance is taken as its
+                    // unit vector, as by `real` (through its angles).
+                    let inv = 1.0 / (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+                    let rho = (w[0] * w[0] + w[1] * w[1]).sqrt();
+                    polars[j] = Polar::from_z_rho(w[2] * inv, rho * inv);
+                    if rho > 0.0 {
+                        let inv = 1.0 / rho;
+                        cis[j] = (w[0] * inv, w[1] * inv);
+                    }
+                }
+                real_lanes(table, &polars, &cis, &mut scratch, &mut tile);
+                for (j, row) in rows.chunks_exact_mut(n).enumerate() {
+                    for (o, t) in row.iter_mut().zip(&tile) {
+                        *o = t[j];
+                    }
                 }
             }
+            Ok(())
+        };
+        if dirs.len() <= BATCH_BLOCK {
+            return block((dirs, out));
         }
-        Ok(())
+        let blocks = dirs
+            .par_chunks(BATCH_BLOCK)
+            .zip(out.par_chunks_mut(BATCH_BLOCK * n));
+        // The first bad direction in input order names the error, whatever the threads.
+        let results: Vec<Result<()>> = blocks.map(block).collect();
+        results.into_iter().collect()
     }
 }
+
+/// Checks a direction of a batch: a cheap test of its squared norm, the full check (and
+/// its error) only when that fails.
+#[inline]
+fn check_unit(w: [f64; 3]) -> Result<()> {
+    let norm2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+    if (norm2 - 1.0).abs().partial_cmp(&(2.0 * UNIT_TOLERANCE)) != Some(std::cmp::Ordering::Less) {
+        check_direction(w)?;
+    }
+    Ok(())
+}
+
+/// Directions per parallel task of [`ShEvaluator::real_batch`].
+const BATCH_BLOCK: usize = 32 * LANES;
 
 /// Real SH of `LANES` directions (given as polar angles and `e^{i phi}`) into the tile
 /// `tile[l*l + l + m][lane]`.
@@ -346,28 +394,50 @@ mod tests {
         }
     }
 
+    /// Both batch kernels (Cartesian up to `CARTESIAN_LMAX`, the Legendre lanes above),
+    /// serial and parallel, against single directions: poles, near-poles, both hemispheres,
+    /// slightly non-unit directions.
     #[test]
     fn batch_matches_single_direction_including_poles() {
-        let lmax = 25;
-        let ev = ShEvaluator::new(lmax).unwrap();
         let mut dirs: Vec<[f64; 3]> = (0..37)
             .map(|i| direction(PI * i as f64 / 36.0, 0.7 * i as f64 - 3.0))
             .collect();
-        dirs.push([0.0, 0.0, 1.0]);
-        dirs.push([1e-200, 0.0, 1.0]);
-        dirs.push([0.0, 0.0, -1.0]);
-        let n = ev.len();
-        let mut batch = vec![0.0; dirs.len() * n];
-        ev.real_batch(&dirs, &mut batch).unwrap();
-        let mut one = vec![0.0; n];
-        for (i, &w) in dirs.iter().enumerate() {
-            let (t, p) = direction_angles(w).unwrap();
-            ev.real(t, p, &mut one).unwrap();
-            for j in 0..n {
-                assert!(
-                    (batch[i * n + j] - one[j]).abs() < 1e-13,
-                    "dir {i} index {j}"
-                );
+        dirs.extend([
+            [0.0, 0.0, 1.0],
+            [1e-200, 0.0, 1.0],
+            [0.0, 0.0, -1.0],
+            [-3e-9, 2e-9, -1.0],
+            [0.6, 0.8 * (1.0 + 5e-11), 0.0],
+        ]);
+        dirs.extend(crate::random::pseudo_random(3 * 700, 4).chunks(3).map(|v| {
+            let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            [v[0] / n, v[1] / n, v[2] / n]
+        }));
+        for lmax in [
+            0,
+            4,
+            cartesian::CARTESIAN_LMAX,
+            cartesian::CARTESIAN_LMAX + 1,
+        ] {
+            let ev = ShEvaluator::new(lmax).unwrap();
+            let n = ev.len();
+            for count in [7, dirs.len()] {
+                let dirs = &dirs[dirs.len() - count..];
+                let mut batch = vec![0.0; dirs.len() * n];
+                ev.real_batch(dirs, &mut batch).unwrap();
+                let mut one = vec![0.0; n];
+                for (i, &w) in dirs.iter().enumerate() {
+                    let (t, p) = direction_angles(w).unwrap();
+                    ev.real(t, p, &mut one).unwrap();
+                    for j in 0..n {
+                        assert!(
+                            (batch[i * n + j] - one[j]).abs() < 1e-13,
+                            "lmax {lmax} dir {i} index {j}: {} vs {}",
+                            batch[i * n + j],
+                            one[j]
+                        );
+                    }
+                }
             }
         }
     }

@@ -324,9 +324,14 @@ impl Legendre {
         self.lmax
     }
 
+    /// The diagonal factor `-sqrt((2m+1)/(2m))` of order `m >= 1`.
+    pub(crate) fn diagonal(&self, m: usize) -> f64 {
+        self.diag[m]
+    }
+
     /// Recursion coefficients `[a_lm, 1/a_{l-1,m}]` of column `m`, for `l = m..=lmax`.
     #[inline]
-    fn column_coefficients(&self, m: usize) -> &[[f64; 2]] {
+    pub(crate) fn column_coefficients(&self, m: usize) -> &[[f64; 2]] {
         let start = self.offsets[m];
         &self.ab[start..start + self.lmax + 1 - m]
     }

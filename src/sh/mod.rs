@@ -7,6 +7,7 @@
 //! with the Condon-Shortley phase in `P_l^m` (PSH (1)); real SH by PSH (12); coefficients
 //! stored in flat order `l*l + l + m`.
 
+mod cartesian;
 pub(crate) mod column_recursion;
 mod double_double;
 pub(crate) mod gaunt;

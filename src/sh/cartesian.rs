@@ -1,0 +1,73 @@
+//! Real SH PSH (12) of small degree at unit vectors from their Cartesian coordinates, four
+//! directions per SIMD vector: the batch kernel of [`super::ShEvaluator::real_batch`] for
+//! `lmax <= CARTESIAN_LMAX`.
+//!
+//! With `rho = sin theta` and `Pbar_lm = Qbar_lm rho^m`, the real SH are
+//! `Y^R_{l,+-m} = sqrt(2) Qbar_lm Re/Im (x + i y)^m` (`rho^m e^{i m phi} = (x + i y)^m`) and
+//! `Y^R_{l0} = Qbar_l0`, where `Qbar_lm` obeys the column recursion of
+//! [`super::legendre`] (it does not depend on `rho`) from the diagonal
+//! `Qbar_mm = -sqrt((2m+1)/(2m)) Qbar_{m-1,m-1}`, `Qbar_00 = 1/sqrt(4 pi)` (the form of
+//! sphericart, Bigi et al., J. Chem. Phys. 159 (2023)). No angle, no square root but the
+//! normalization of the direction, and no exponent scaling: at these degrees `Qbar_lm` is
+//! far inside the f64 range (it is a polynomial in `z` of degree `l - m`, at most
+//! `Pbar_lm(theta) / sin^m theta <= sqrt((2l+1)/(4 pi)) l^m`), and the powers `(x + i y)^m`
+//! only underflow where the harmonic is below `2^-1000`.
+//! As in [`super::legendre`], the recursion runs in `u = 1 - |z| = rho^2 / (1 + |z|)` on the
+//! northern mirror of each direction (full relative accuracy near the poles), with
+//! `Pbar_lm(pi - theta) = (-1)^{l+m} Pbar_lm(theta)` for the southern ones.
+
+use super::legendre::Legendre;
+use super::lm_index;
+use std::f64::consts::{PI, SQRT_2};
+use wide::{f64x4, CmpLt};
+
+/// The largest band limit the Cartesian kernel serves.
+pub(crate) const CARTESIAN_LMAX: usize = 24;
+
+/// Directions per SIMD vector.
+pub(crate) const LANES: usize = 4;
+
+/// Real SH of degrees `<= table.lmax()` at four directions (finite, near unit length;
+/// normalized here) into `tile[l*l + l + m]` (one lane per direction).
+#[inline]
+pub(crate) fn real_lanes(table: &Legendre, dirs: &[[f64; 3]; LANES], tile: &mut [f64x4]) {
+    let lmax = table.lmax();
+    let [x, y, z] = std::array::from_fn(|i| f64x4::new(dirs.map(|w| w[i])));
+    let inv = f64x4::ONE / (x * x + y * y + z * z).sqrt();
+    let (x, y, z) = (x * inv, y * inv, z * inv);
+    let rho2 = x * x + y * y;
+    let u = rho2 / (f64x4::ONE + z.abs());
+    let south = z.cmp_lt(f64x4::ZERO).blend(-f64x4::ONE, f64x4::ONE);
+    let (mut c, mut s) = (f64x4::ONE, f64x4::ZERO);
+    let mut diag = f64x4::splat(0.5 / PI.sqrt());
+    for m in 0..=lmax {
+        if m > 0 {
+            diag *= f64x4::splat(table.diagonal(m));
+            (c, s) = (x * c - y * s, x * s + y * c);
+        }
+        let (fc, fs) = if m == 0 {
+            (f64x4::ONE, f64x4::ZERO)
+        } else {
+            (c * SQRT_2, s * SQRT_2)
+        };
+        let ab = table.column_coefficients(m);
+        let (mut p1, mut p2, mut parity) = (diag, f64x4::ZERO, f64x4::ONE);
+        for (k, &[a, b]) in ab.iter().enumerate() {
+            if k > 0 {
+                let (a, b) = (f64x4::splat(a), f64x4::splat(b));
+                let p = a * ((p1 - b * p2) - u * p1);
+                p2 = p1;
+                p1 = p;
+                parity *= south;
+            }
+            let l = m + k;
+            let v = p1 * parity;
+            if m == 0 {
+                tile[lm_index(l, 0)] = v;
+            } else {
+                tile[lm_index(l, m as i64)] = v * fc;
+                tile[lm_index(l, -(m as i64))] = v * fs;
+            }
+        }
+    }
+}
