@@ -38,23 +38,25 @@ fn psh_project(c: &mut Criterion) {
     grp.finish();
 }
 
-/// Rotate an RGB {s0..s3} coefficient vector of l < 100 (Wigner blocks included).
+/// Rotate an RGB {s0..s3} coefficient vector of l < 100, Wigner blocks included:
+/// `vector/100` streams them one degree at a time (`PshVector::rotated`, `psh rotate`,
+/// Python's `rotated`), `stored/100` builds and keeps them all first (`PshRotation`, for
+/// many vectors).
 fn psh_rotate(c: &mut Criterion) {
     let v = random_psh(99, Codomain::Full, 3, 4).unwrap();
     let r = rotation_from_rotvec([0.3, -1.1, 0.7]).unwrap();
     let mut grp = c.benchmark_group("psh_rotate");
     grp.sample_size(20);
     grp.bench_function("vector/100", |b| {
+        b.iter(|| black_box(&v).rotated(&r).unwrap())
+    });
+    grp.bench_function("stored/100", |b| {
         b.iter(|| {
             PshRotation::new(&r, 99)
                 .unwrap()
                 .rotate(black_box(&v))
                 .unwrap()
         })
-    });
-    // The blocks streamed one degree at a time (`psh rotate`, Python's `rotated`).
-    grp.bench_function("streamed/100", |b| {
-        b.iter(|| black_box(&v).rotated(&r).unwrap())
     });
     grp.finish();
 }

@@ -1,5 +1,5 @@
 """The binding's overhead, measured in one run: the criterion medians of the Rust benches
-`psh_rotate/streamed/100` and `psh_project/cube64/16` (benches/polarized.rs, run here by
+`psh_rotate/vector/100` and `psh_project/cube64/16` (benches/polarized.rs, run here by
 `cargo bench`) and the same operations from Python by `timeit` on inputs of the same
 sizes, alternated for ROUNDS rounds (a shared 2-vCPU machine drifts by 10-20% between
 runs of a few seconds; the medians over rounds compare like with like), and the fixed
@@ -22,13 +22,13 @@ import numpy as np
 import psh
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-IDS = ["psh_rotate/streamed/100", "psh_project/cube64/16"]
+IDS = ["psh_rotate/vector/100", "psh_project/cube64/16"]
 ROUNDS = 5
 
 
 def criterion_medians():
     subprocess.run(["cargo", "bench", "--bench", "polarized", "--",
-                    "psh_rotate/streamed/100|psh_project/cube64/16"], cwd=ROOT, check=True,
+                    "psh_rotate/vector/100|psh_project/cube64/16"], cwd=ROOT, check=True,
                    stdout=subprocess.DEVNULL)
     out = {}
     for i in IDS:

@@ -18,6 +18,7 @@ use crate::error::{Error, Result};
 use crate::sh::wigner::{check_block_memory, for_each_block, real_block};
 use nalgebra::Rotation3;
 use num_complex::Complex64;
+use wide::f64x4;
 
 /// The blocks of one degree: real (PSH (13)) and, for spin 2, complex (PSH (9)).
 #[derive(Clone, Debug)]
@@ -103,6 +104,10 @@ impl PshVector {
 
 /// Degree `l` of `R_F[v]` into `out`: the real block on the spin-0 components, the
 /// complex block on `a = f_1 + i f_2` (PSH (37)); row `m` is `sum_m' B_mm' x_m'`.
+///
+/// The columns (every channel's spin-0 components, every channel's `a`) are gathered
+/// contiguous in `m'`, so that each entry is a dot product of a block row with a column in
+/// SIMD lanes ([`lane_dot`]), each block row read once per degree from cache.
 fn apply_degree(
     l: usize,
     real: &[f64],
@@ -114,33 +119,86 @@ fn apply_degree(
     let comps = v.codomain().components();
     let np = comps.len();
     let per_channel = crate::sh::num_coeffs(v.lmax()) * np;
-    let (src, dst) = (v.data(), out.data_mut());
-    for c in 0..v.channels() {
-        let base = c * per_channel + l * l * np;
-        let at = |m: usize, k: usize| base + m * np + k;
-        for (k, &p) in comps.iter().enumerate() {
-            if p == 0 || p == 3 {
-                for (i, row) in real.chunks_exact(n).enumerate() {
-                    let mut acc = 0.0;
-                    for (j, &b) in row.iter().enumerate() {
-                        acc += b * src[at(j, k)];
-                    }
-                    dst[at(i, k)] = acc;
-                }
-            }
+    let at = |c: usize, m: usize, k: usize| c * per_channel + (l * l + m) * np + k;
+    let src = v.data();
+    let scalar: Vec<(usize, usize)> = (0..v.channels())
+        .flat_map(|c| {
+            let ks = comps.iter().enumerate().filter(|(_, &p)| p == 0 || p == 3);
+            ks.map(move |(k, _)| (c, k))
+        })
+        .collect();
+    let mut column = vec![0.0; n];
+    let mut results = vec![0.0; n * scalar.len()];
+    for (&(c, k), y) in scalar.iter().zip(results.chunks_exact_mut(n)) {
+        for (m, x) in column.iter_mut().enumerate() {
+            *x = src[at(c, m, k)];
         }
-        if let (Some(block), Some(k1)) = (complex, comps.iter().position(|&p| p == 1)) {
-            let k2 = k1 + 1;
-            for (i, row) in block.chunks_exact(n).enumerate() {
-                let mut acc = Complex64::default();
-                for (j, &b) in row.iter().enumerate() {
-                    acc += b * Complex64::new(src[at(j, k1)], src[at(j, k2)]);
-                }
-                dst[at(i, k1)] = acc.re;
-                dst[at(i, k2)] = acc.im;
+        for (row, y) in real.chunks_exact(n).zip(y.iter_mut()) {
+            *y = lane_dot(row, &column).reduce_add();
+        }
+    }
+    // a = f_1 + i f_2 interleaved ([re, im] per m'), and swapped ([im, re]): the lane sums
+    // of a block row (interleaved) with them hold sum (Re B Re a, Im B Im a) and the
+    // imaginary part.
+    let spin2 = complex.zip(comps.iter().position(|&p| p == 1));
+    let mut complex_results = Vec::new();
+    if let Some((block, k1)) = spin2 {
+        let flat: &[f64] = interleaved(block);
+        let (mut a, mut swapped) = (vec![0.0; 2 * n], vec![0.0; 2 * n]);
+        for c in 0..v.channels() {
+            for m in 0..n {
+                let (re, im) = (src[at(c, m, k1)], src[at(c, m, k1 + 1)]);
+                a[2 * m..2 * m + 2].copy_from_slice(&[re, im]);
+                swapped[2 * m..2 * m + 2].copy_from_slice(&[im, re]);
+            }
+            for row in flat.chunks_exact(2 * n) {
+                let s = lane_dot(row, &a).to_array();
+                let re = (s[0] + s[2]) - (s[1] + s[3]);
+                let im = lane_dot(row, &swapped).reduce_add();
+                complex_results.push((re, im));
             }
         }
     }
+    let dst = out.data_mut();
+    for (&(c, k), y) in scalar.iter().zip(results.chunks_exact(n)) {
+        for (m, &y) in y.iter().enumerate() {
+            dst[at(c, m, k)] = y;
+        }
+    }
+    if let Some((_, k1)) = spin2 {
+        for (i, &(re, im)) in complex_results.iter().enumerate() {
+            let (c, m) = (i / n, i % n);
+            dst[at(c, m, k1)] = re;
+            dst[at(c, m, k1 + 1)] = im;
+        }
+    }
+}
+
+/// `[re, im, re, im, ...]` of complex numbers (`Complex64` is `repr(C)`, two `f64`).
+fn interleaved(z: &[Complex64]) -> &[f64] {
+    // SAFETY: Complex64 is #[repr(C)] { re: f64, im: f64 }: 2 z.len() f64 in place.
+    unsafe { std::slice::from_raw_parts(z.as_ptr().cast::<f64>(), 2 * z.len()) }
+}
+
+/// Lane sums of `a[j] b[j]`: lane `q` sums the `j = q mod 4` (the tail past the last full
+/// vector goes to lanes `0, 1, ...`, keeping that rule), in a fixed order.
+#[inline]
+fn lane_dot(a: &[f64], b: &[f64]) -> f64x4 {
+    let mut acc = [f64x4::ZERO; 2];
+    let (ac, bc) = (a.chunks_exact(8), b.chunks_exact(8));
+    let (at, bt) = (ac.remainder(), bc.remainder());
+    for (x, y) in ac.zip(bc) {
+        for h in 0..2 {
+            let x = f64x4::new([x[4 * h], x[4 * h + 1], x[4 * h + 2], x[4 * h + 3]]);
+            let y = f64x4::new([y[4 * h], y[4 * h + 1], y[4 * h + 2], y[4 * h + 3]]);
+            acc[h] = x.mul_add(y, acc[h]);
+        }
+    }
+    let mut tail = [0.0; 4];
+    for (j, (x, y)) in at.iter().zip(bt).enumerate() {
+        tail[j % 4] += x * y;
+    }
+    acc[0] + acc[1] + f64x4::new(tail)
 }
 
 #[cfg(test)]

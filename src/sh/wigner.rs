@@ -24,7 +24,7 @@ use crate::error::{check_len, finite, Error, Result};
 use crate::geometry::euler_zyz;
 use nalgebra::Rotation3;
 use num_complex::Complex64;
-use std::f64::consts::FRAC_1_SQRT_2;
+use std::f64::consts::SQRT_2;
 
 /// Risbo's recursion for `d^l(beta)`, `l = 0, 1, ...`, one block at a time in `O(l^2)`
 /// memory; use it to stream blocks at degrees where storing them all is too much.
@@ -284,37 +284,38 @@ fn phases(l: usize, angle: f64) -> Vec<Complex64> {
 
 /// Real Wigner block PSH (13) from the complex one: `D^R = conj(U) D U^T`, where
 /// `Y^R = U Y` is the change of basis of PSH (12) (derived in `proofs/wigner-recursion.md`).
+///
+/// With `A = D_{k k'}`, `B = D_{k,-k'}` (`k, k' > 0`), `s = (-1)^{k'}` and the symmetry
+/// `D_{-m,-m'} = (-1)^{m-m'} conj(D_{m m'})`, the four entries of orders `+-k, +-k'` are
+/// `D^R_{k,k'} = Re A + s Re B`, `D^R_{k,-k'} = Im A - s Im B`,
+/// `D^R_{-k,k'} = -(Im A + s Im B)`, `D^R_{-k,-k'} = Re A - s Re B`; with order 0,
+/// `D^R_{0,k'} = sqrt(2) Re D_{0k'}`, `D^R_{0,-k'} = sqrt(2) Im D_{0k'}`,
+/// `D^R_{k,0} = sqrt(2) Re D_{k0}`, `D^R_{-k,0} = -sqrt(2) Im D_{k0}`, `D^R_00 = Re D_00`
+/// (`proofs/wigner-recursion.md`, "Real blocks entry by entry").
 pub fn real_block(l: usize, complex: &[Complex64], out: &mut Vec<f64>) {
     let n = 2 * l + 1;
     out.clear();
     out.resize(n * n, 0.0);
-    let u = |m: i64| -> [(i64, Complex64); 2] {
-        let sign = if m % 2 == 0 { 1.0 } else { -1.0 };
-        let h = FRAC_1_SQRT_2;
-        match m.signum() {
-            1 => [
-                (m, Complex64::new(h, 0.0)),
-                (-m, Complex64::new(sign * h, 0.0)),
-            ],
-            0 => [(0, Complex64::new(1.0, 0.0)), (0, Complex64::new(0.0, 0.0))],
-            _ => [
-                (m, Complex64::new(0.0, sign * h)),
-                (-m, Complex64::new(0.0, -h)),
-            ],
-        }
-    };
-    let li = l as i64;
-    for m in -li..=li {
-        let um = u(m);
-        for mp in -li..=li {
-            let ump = u(mp);
-            let mut acc = Complex64::new(0.0, 0.0);
-            for &(mu, cm) in &um {
-                for &(mup, cmp) in &ump {
-                    acc += cm.conj() * cmp * complex[(mu + li) as usize * n + (mup + li) as usize];
-                }
-            }
-            out[(m + li) as usize * n + (mp + li) as usize] = acc.re;
+    let at = |m: i64, mp: i64| (m + l as i64) as usize * n + (mp + l as i64) as usize;
+    let d = |m: i64, mp: i64| complex[at(m, mp)];
+    out[at(0, 0)] = d(0, 0).re;
+    for k in 1..=l as i64 {
+        let (c, e) = (d(0, k), d(k, 0));
+        out[at(0, k)] = SQRT_2 * c.re;
+        out[at(0, -k)] = SQRT_2 * c.im;
+        out[at(k, 0)] = SQRT_2 * e.re;
+        out[at(-k, 0)] = -SQRT_2 * e.im;
+    }
+    for k in 1..=l as i64 {
+        let (row, neg_row) = (at(k, 0), at(-k, 0));
+        let (plus, minus) = (&complex[row..row + l + 1], &complex[row - l..=row]);
+        for kp in 1..=l {
+            let (a, b) = (plus[kp], minus[l - kp]);
+            let s = if kp % 2 == 0 { 1.0 } else { -1.0 };
+            out[row + kp] = a.re + s * b.re;
+            out[row - kp] = a.im - s * b.im;
+            out[neg_row + kp] = -(a.im + s * b.im);
+            out[neg_row - kp] = a.re - s * b.re;
         }
     }
 }
