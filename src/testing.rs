@@ -60,3 +60,13 @@ pub fn random_psh_matrix(lmax: usize, seed: u64) -> Result<crate::polarized::Psh
     }
     crate::polarized::PshMatrix::from_data(lmax, data)
 }
+
+/// `f()` on a thread pool of `threads` threads: for checks that a result is the same bit
+/// for bit on any thread count.
+pub fn on_threads<R: Send>(threads: usize, f: impl FnOnce() -> R + Send) -> R {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a thread pool")
+        .install(f)
+}

@@ -744,11 +744,9 @@ fn a_frame_reads_only_the_vertices_it_sees_on_any_thread_count() {
     let hits = primary_hits(&scene);
     let direct = direct_light(&scene, &hits).unwrap();
     let frame = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| render_frame(&scene, &transfer, &high, &hits, &direct).unwrap())
+        psh::testing::on_threads(threads, || {
+            render_frame(&scene, &transfer, &high, &hits, &direct).unwrap()
+        })
     };
     let image = frame(1);
     assert_eq!(image.channels, frame(3).channels);

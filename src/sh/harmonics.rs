@@ -442,6 +442,28 @@ mod tests {
         }
     }
 
+    /// Blocks of directions run in parallel, each row by one task: the same bits on one
+    /// thread and on three, for both kernels.
+    #[test]
+    fn batch_does_not_depend_on_the_thread_count() {
+        let dirs: Vec<[f64; 3]> = crate::random::pseudo_random(3 * 2000, 8)
+            .chunks(3)
+            .map(|v| {
+                let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                [v[0] / n, v[1] / n, v[2] / n]
+            })
+            .collect();
+        for lmax in [4, 30] {
+            let ev = ShEvaluator::new(lmax).unwrap();
+            let run = |threads: usize| {
+                let mut out = vec![0.0; dirs.len() * ev.len()];
+                crate::testing::on_threads(threads, || ev.real_batch(&dirs, &mut out)).unwrap();
+                out
+            };
+            assert_eq!(run(1), run(3), "lmax {lmax}");
+        }
+    }
+
     /// Increasing, repeated and jumping orders (the walks of the Legendre and spin
     /// recursions) against the direct [`cis_m`].
     #[test]

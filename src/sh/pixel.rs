@@ -169,11 +169,7 @@ mod tests {
         let g = Equirect::new(24, 48).unwrap();
         let v = crate::random::pseudo_random(g.len(), 3);
         let run = |threads: usize| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap()
-                .install(|| project_real(&g, &v, 70).unwrap())
+            crate::testing::on_threads(threads, || project_real(&g, &v, 70).unwrap())
         };
         let one = run(1);
         assert_eq!(one, run(2));

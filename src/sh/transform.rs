@@ -188,6 +188,28 @@ mod tests {
         }
     }
 
+    /// Orders, ring pairs and FFTs run in parallel, each value summed by one task: the
+    /// same bits on one thread and on three.
+    #[test]
+    fn results_do_not_depend_on_the_thread_count() {
+        let lmax = 40;
+        let t = ShTransform::new(lmax).unwrap();
+        let c = pseudo_random(num_coeffs(lmax), 12);
+        let run = |threads: usize| {
+            crate::testing::on_threads(threads, || {
+                let mut f = vec![0.0; t.grid().len()];
+                t.synthesis_real(&c, &mut f).unwrap();
+                let mut back = vec![0.0; c.len()];
+                t.analysis_real(&f, &mut back).unwrap();
+                let z: Vec<Complex64> = f.iter().map(|&x| Complex64::new(x, 0.5 * x)).collect();
+                let mut a = vec![Complex64::default(); c.len()];
+                t.analysis_complex(&z, &mut a).unwrap();
+                (f, back, a)
+            })
+        };
+        assert_eq!(run(1), run(3));
+    }
+
     #[test]
     fn mismatched_lengths_are_errors() {
         let t = ShTransform::new(3).unwrap();

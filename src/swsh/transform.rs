@@ -172,11 +172,7 @@ mod tests {
         let re = crate::random::pseudo_random(num_coeffs(lmax), 8);
         let c: Vec<Complex64> = re.iter().map(|&a| Complex64::new(a, -0.3 * a)).collect();
         let run = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
+            crate::testing::on_threads(threads, || {
                 let mut f = vec![Complex64::default(); t.grid().len()];
                 t.synthesis(&c, &mut f).unwrap();
                 let mut back = vec![Complex64::default(); c.len()];
