@@ -691,7 +691,7 @@ fn sweep_column<S: Sweep>(
 }
 
 /// Degrees `range` (even bounds) of the recursion
-/// `p_l = A_l ((c_l - u) p_{l-1} - B_l p_{l-2})`, two per pass over the vectors; the
+/// `p_l = A_l ((c_l p_{l-1} - B_l p_{l-2}) - u p_{l-1})`, two per pass over the vectors; the
 /// vectors `0..scaled` take their output factors, the vectors `0..live` only recurse while
 /// negligible (see [`sweep_column`]).
 #[inline(always)]
@@ -709,8 +709,10 @@ fn sweep_degrees<S: Sweep>(
         let [a0, b0, c0] = coeffs[k].map(f64x4::splat);
         let [a1, b1, c1] = coeffs[k + 1].map(f64x4::splat);
         let step = |p1: &mut f64x4, p2: &mut f64x4, u: f64x4| {
-            let p = a0 * b0.mul_neg_add(*p2, (c0 - u) * *p1);
-            let q = a1 * b1.mul_neg_add(*p1, (c1 - u) * p);
+            // (c p1 - B p2) - u p1, not (c - u) p1 - B p2: at c = 1 (spin 0) `1 - u` would
+            // round cos(theta) and lose near the poles what u keeps (`sh::legendre`).
+            let p = a0 * u.mul_neg_add(*p1, b0.mul_neg_add(*p2, c0 * *p1));
+            let q = a1 * u.mul_neg_add(p, b1.mul_neg_add(*p1, c1 * p));
             *p2 = p;
             *p1 = q;
         };

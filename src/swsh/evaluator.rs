@@ -77,7 +77,7 @@ impl SpinEvaluator {
                 let end = (k + LANE_BLOCK).min(out.len());
                 for (o, &[a, b, c]) in out[k..end].iter_mut().zip(&col.coeffs[k..end]) {
                     for j in 0..N {
-                        let p = a * ((c - u[j]) * p1[j] - b * p2[j]);
+                        let p = a * ((c * p1[j] - b * p2[j]) - u[j] * p1[j]);
                         p2[j] = p1[j];
                         p1[j] = p;
                         o[j] = p * fac[j];
