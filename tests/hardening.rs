@@ -293,6 +293,31 @@ fn the_memory_budget_is_set_by_flag_and_environment() {
         1,
         &["work space", "209715200"],
     );
+    // The transforms' recursion tables at lmax 4000 (about 1 GB) are checked before they
+    // are built, for the scalar and the spin transforms alike.
+    for sht in [["sht", "--kind"], ["spin-sht", "--spin"]] {
+        let kind = if sht[0] == "sht" { "real" } else { "2" };
+        refused(
+            &[
+                "--max-memory",
+                "256M",
+                "eval",
+                sht[0],
+                sht[1],
+                kind,
+                "--lmax",
+                "4000",
+                "--op",
+                "synthesis",
+                "--input",
+                &npz,
+                "--output",
+                &format!("{out}.npy"),
+            ],
+            1,
+            &["recursion tables", "268435456"],
+        );
+    }
     let env = Command::new(env!("CARGO_BIN_EXE_psh"))
         .args(["reconstruct", &npz, "--cube", "200", "-o", out])
         .env("PSH_MAX_MEMORY", "2M")

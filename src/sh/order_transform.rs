@@ -113,6 +113,21 @@ pub(crate) struct OrderTransform {
     inverse: Arc<dyn Fft<f64>>,
 }
 
+/// Checks the memory of the recursion tables of a transform of band limit `lmax` on `grid`
+/// against [`crate::budget`] before they are built: per order at most `lmax + 2` steps
+/// `[A, B, c]` and a start per lane vector of ring pairs (`2 * 24` bytes), `2 lmax + 1`
+/// orders.
+pub(crate) fn check_tables(lmax: usize, grid: &SphereGrid) -> Result<()> {
+    let vectors = grid.rings.len().div_ceil(2).div_ceil(LANES);
+    let per_order = (lmax + 2).saturating_add(vectors.saturating_mul(2));
+    crate::budget::check(
+        "the transform's recursion tables",
+        &[2 * lmax + 1, per_order],
+        24,
+    )?;
+    Ok(())
+}
+
 impl OrderTransform {
     /// The transforms of `columns` on `grid` (checked to resolve their band limit).
     pub(crate) fn new(columns: Arc<Columns>, grid: SphereGrid) -> Result<Self> {

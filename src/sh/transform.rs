@@ -44,6 +44,7 @@ impl ShTransform {
     pub fn with_grid(lmax: usize, grid: SphereGrid) -> Result<Self> {
         super::check_lmax(lmax)?;
         grid.check_band_limit(lmax)?;
+        super::order_transform::check_tables(lmax, &grid)?;
         Ok(Self {
             sweeps: OrderTransform::new(Arc::new(Columns::new(0, lmax)), grid)?,
         })

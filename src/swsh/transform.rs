@@ -35,6 +35,9 @@ impl SpinTransform {
     /// Spin-`s` transform on a given grid (checked to resolve `lmax`). `1 <= |s| <= lmax`
     /// (spin 0 is the scalar transform of [`crate::sh::ShTransform`]).
     pub fn with_grid(spin: i64, lmax: usize, grid: SphereGrid) -> Result<Self> {
+        crate::sh::check_lmax(lmax)?;
+        grid.check_band_limit(lmax)?;
+        crate::sh::order_transform::check_tables(lmax, &grid)?;
         let eval = SpinEvaluator::new(spin, lmax)?;
         Ok(Self {
             sweeps: OrderTransform::new(eval.columns.clone(), grid)?,
