@@ -29,16 +29,26 @@ use std::f64::consts::SQRT_2;
 /// Risbo's recursion for `d^l(beta)`, `l = 0, 1, ...`, one block at a time in `O(l^2)`
 /// memory; use it to stream blocks at degrees where storing them all is too much.
 pub struct SmallDRecursion {
+    steps: HalfSteps,
+    /// The stored half of level `J = 2l` (the current block), then the scratch levels
+    /// `J + 1` and `J + 2` of the next step: three buffers, so that the next step can run
+    /// while the current block is read.
+    cur: Vec<f64>,
+    mid: Vec<f64>,
+    next: Vec<f64>,
+    /// Level `J = 2l` held in `cur`.
+    level: usize,
+    started: bool,
+}
+
+/// The constants of Risbo's half-integer steps and their scratch.
+struct HalfSteps {
     lmax: usize,
     p: f64,
     q: f64,
     sq: Vec<f64>,
+    /// Row length of the buffers: `b = -1..=2 lmax + 1`.
     stride: usize,
-    cur: Vec<f64>,
-    next: Vec<f64>,
-    /// Level `J = 2j` held in `cur`.
-    level: usize,
-    started: bool,
     e: [Vec<f64>; 2],
 }
 
@@ -48,22 +58,26 @@ impl SmallDRecursion {
         finite("beta", beta)?;
         check_lmax(lmax)?;
         let stride = 2 * lmax + 3;
-        let mut cur = vec![0.0; stride * stride];
+        // Rows a = -1..=lmax + 2: the stored half and the row the next step reads past it.
+        let mut cur = vec![0.0; stride * (lmax + 4)];
         cur[stride + 1] = 1.0;
         let (q, p) = (0.5 * beta).sin_cos();
         let sq = (0..=2 * lmax + 1).map(|k| (k as f64).sqrt()).collect();
         let e = std::array::from_fn(|_| vec![0.0; 2 * lmax + 2]);
         Ok(Self {
-            lmax,
-            p,
-            q,
-            sq,
-            stride,
-            next: cur.clone(),
+            steps: HalfSteps {
+                lmax,
+                p,
+                q,
+                sq,
+                stride,
+                e,
+            },
+            mid: vec![0.0; cur.len()],
+            next: vec![0.0; cur.len()],
             cur,
             level: 0,
             started: false,
-            e,
         })
     }
 
@@ -71,27 +85,29 @@ impl SmallDRecursion {
     /// past `lmax`.
     pub fn advance(&mut self) -> Option<usize> {
         if self.started {
-            if self.level + 2 > 2 * self.lmax {
+            if self.level + 2 > 2 * self.steps.lmax {
                 return None;
             }
-            self.half_step();
-            self.half_step();
+            self.steps
+                .degree_step(&self.cur, &mut self.mid, &mut self.next, self.level);
+            self.finish_step();
         }
         self.started = true;
         Some(self.level / 2)
     }
 
-    /// Row `i` (`m = i - l`) of the current block, as a slice of the stored half and
-    /// whether it is read reversed with the sign `(-1)^{i+k}` applied (the lower rows,
-    /// by `d[a][b] = (-1)^{a+b} d[J-a][J-b]`). Element `k` (`m' = k - l`) is
-    /// `row[n - 1 - k]` in the first case and `(-1)^{i+k} row[k]` in the second.
-    fn row(&self, i: usize) -> (&[f64], bool) {
-        let (big_j, s) = (self.level, self.stride);
-        let a = big_j - i;
-        if a <= big_j / 2 + 1 {
-            (&self.cur[(a + 1) * s + 1..(a + 1) * s + big_j + 2], false)
-        } else {
-            (&self.cur[(i + 1) * s + 1..(i + 1) * s + big_j + 2], true)
+    /// Makes the level computed by [`HalfSteps::degree_step`] into `next` the current one.
+    fn finish_step(&mut self) {
+        std::mem::swap(&mut self.cur, &mut self.next);
+        self.level += 2;
+    }
+
+    /// The current block, read-only.
+    fn current(&self) -> Level<'_> {
+        Level {
+            data: &self.cur,
+            level: self.level,
+            stride: self.steps.stride,
         }
     }
 
@@ -101,8 +117,9 @@ impl SmallDRecursion {
         let n = self.level + 1;
         out.clear();
         out.resize(n * n, 0.0);
+        let current = self.current();
         for (i, o) in out.chunks_exact_mut(n).enumerate() {
-            match self.row(i) {
+            match current.row(i) {
                 (row, false) => o
                     .iter_mut()
                     .zip(row.iter().rev())
@@ -123,46 +140,85 @@ impl SmallDRecursion {
         self.block(out);
         Some(l)
     }
+}
 
-    /// Writes the complex block `D^l_mm' = e^{-i m alpha} d^l_mm' e^{-i m' gamma}` of the
-    /// current degree, given `ea[i] = e^{-i m alpha}` and `eg[k] = e^{-i m' gamma}`. The
-    /// rows `m > 0` follow from `D_{-m,-m'} = (-1)^{m-m'} conj(D_mm')`.
-    fn complex_block(&self, ea: &[Complex64], eg: &[Complex64], out: &mut Vec<Complex64>) {
+/// The stored half of one level `J = 2l` of the recursion.
+struct Level<'a> {
+    data: &'a [f64],
+    level: usize,
+    stride: usize,
+}
+
+impl Level<'_> {
+    /// Row `i` (`m = i - l`) of the block, as a slice of the stored half and whether it
+    /// is read reversed with the sign `(-1)^{i+k}` applied (the lower rows, by
+    /// `d[a][b] = (-1)^{a+b} d[J-a][J-b]`). Element `k` (`m' = k - l`) is
+    /// `row[n - 1 - k]` in the first case and `(-1)^{i+k} row[k]` in the second.
+    fn row(&self, i: usize) -> (&[f64], bool) {
+        let (big_j, s) = (self.level, self.stride);
+        let a = big_j - i;
+        if a <= big_j / 2 + 1 {
+            (&self.data[(a + 1) * s + 1..(a + 1) * s + big_j + 2], false)
+        } else {
+            (&self.data[(i + 1) * s + 1..(i + 1) * s + big_j + 2], true)
+        }
+    }
+
+    /// Writes the complex block `D^l_mm' = e^{-i m alpha} d^l_mm' e^{-i m' gamma}`,
+    /// given `ea[i] = e^{-i m alpha}` and `eg[k] = e^{-i m' gamma}`. The rows `m > 0`
+    /// follow from `D_{-m,-m'} = (-1)^{m-m'} conj(D_mm')`.
+    ///
+    /// With `e^{-i m' gamma}` conjugate to its mirror `e^{i m' gamma}` and the sign folded
+    /// into `gs[k] = (-1)^k eg[k]`, every row is `c P[k] v[k]` with a row `v` of the stored
+    /// half read forward or reversed: each row of `D` is written once, front to back.
+    fn complex_block(
+        &self,
+        ea: &[Complex64],
+        eg: &[Complex64],
+        gs: &mut Vec<Complex64>,
+        out: &mut Vec<Complex64>,
+    ) {
         let n = self.level + 1;
         let l = self.level / 2;
+        gs.clear();
+        gs.extend(eg.iter().enumerate().map(|(k, &g)| if k % 2 == 0 { g } else { -g }));
         // Every element is written below: no need to clear.
         out.resize(n * n, Complex64::default());
         for i in 0..=l {
             let c = ea[i];
+            let si = if i % 2 == 0 { 1.0 } else { -1.0 };
             // Row i and, below the middle row, its mirror n - 1 - i.
             let (head, tail) = out.split_at_mut((n - 1 - i).max(i + 1) * n);
             let o = &mut head[i * n..(i + 1) * n];
-            match self.row(i) {
-                (row, false) => {
-                    for ((o, &r), &g) in o.iter_mut().zip(row.iter().rev()).zip(eg) {
-                        *o = c * g * r;
-                    }
+            let (row, reversed) = self.row(i);
+            if reversed {
+                // o[k] = (-1)^{i+k} c eg[k] row[k]; mirror[k] = conj(c) eg[k] row[n-1-k].
+                phase_row(o, c * si, gs, row.iter().copied());
+                if i < l {
+                    phase_row(&mut tail[..n], c.conj(), eg, row.iter().rev().copied());
                 }
-                (row, true) => {
-                    for (k, ((o, &r), &g)) in o.iter_mut().zip(row).zip(eg).enumerate() {
-                        *o = c * g * if (i + k) % 2 == 0 { r } else { -r };
-                    }
-                }
-            }
-            if i < l {
-                let mirror = &mut tail[..n];
-                for (k, v) in o.iter().enumerate() {
-                    let w = v.conj();
-                    mirror[n - 1 - k] = if (i + k) % 2 == 0 { w } else { -w };
+            } else {
+                // o[k] = c eg[k] row[n-1-k]; mirror[k] = (-1)^{i+k} conj(c) eg[k] row[k].
+                phase_row(o, c, eg, row.iter().rev().copied());
+                if i < l {
+                    phase_row(&mut tail[..n], c.conj() * si, gs, row.iter().copied());
                 }
             }
         }
     }
+}
 
-    /// One half-integer step: level `J - 1` in `cur` to level `J` (rows `a <= J/2 + 1`,
-    /// plus the next row by symmetry), then swap.
-    fn half_step(&mut self) {
-        let big_j = self.level + 1;
+impl HalfSteps {
+    /// Two half-integer steps: level `J = 2l` in `cur` to `J + 1` in `mid` and `J + 2`
+    /// in `next`.
+    fn degree_step(&mut self, cur: &[f64], mid: &mut [f64], next: &mut [f64], level: usize) {
+        self.half_step(cur, mid, level + 1);
+        self.half_step(mid, next, level + 2);
+    }
+
+    /// One half-integer step: level `J - 1` in `src` to level `J` in `dst` (rows
+    /// `a <= J/2 + 1`, plus the next row by symmetry).
+    fn half_step(&mut self, src: &[f64], dst: &mut [f64], big_j: usize) {
         let s = self.stride;
         let sq = &self.sq;
         let inv = 1.0 / big_j as f64;
@@ -177,23 +233,24 @@ impl SmallDRecursion {
             // Row constants of the recursion: sqrt(J-a)/J {p, q}, sqrt(a)/J {q, p}.
             let (ca, cb) = (sq[big_j - a] * inv, sq[a] * inv);
             let (ap, aq, bq, bp) = (ca * self.p, ca * self.q, cb * self.q, cb * self.p);
-            let x = &self.cur[(a + 1) * s..(a + 1) * s + big_j + 2];
-            let y = &self.cur[a * s..a * s + big_j + 2];
-            let row = &mut self.next[(a + 1) * s + 1..(a + 1) * s + big_j + 2];
-            for b in 0..=big_j {
-                row[b] =
-                    rev[b] * (ap * x[b + 1] + bq * y[b + 1]) + fwd[b] * (bp * y[b] - aq * x[b]);
+            // Equal-length slices over b = 0..=J: the loop runs in SIMD lanes.
+            let n = big_j + 1;
+            let x = &src[(a + 1) * s..(a + 1) * s + n + 1];
+            let y = &src[a * s..a * s + n + 1];
+            let (x0, x1, y0, y1) = (&x[..n], &x[1..], &y[..n], &y[1..]);
+            let (rev, fwd) = (&rev[..n], &fwd[..n]);
+            let row = &mut dst[(a + 1) * s + 1..(a + 1) * s + 1 + n];
+            for b in 0..n {
+                row[b] = rev[b] * (ap * x1[b] + bq * y1[b]) + fwd[b] * (bp * y0[b] - aq * x0[b]);
             }
         }
         let a = h + 1;
         if a <= big_j {
             for b in 0..=big_j {
-                let v = self.next[(big_j - a + 1) * s + (big_j - b) + 1];
-                self.next[(a + 1) * s + b + 1] = if (a + b) % 2 == 0 { v } else { -v };
+                let v = dst[(big_j - a + 1) * s + (big_j - b) + 1];
+                dst[(a + 1) * s + b + 1] = if (a + b) % 2 == 0 { v } else { -v };
             }
         }
-        std::mem::swap(&mut self.cur, &mut self.next);
-        self.level = big_j;
     }
 }
 
@@ -253,22 +310,63 @@ pub(crate) fn check_block_memory(lmax: usize, entry_bytes: usize) -> Result<usiz
     )
 }
 
+/// Degrees from which [`for_each_block`] overlaps the next recursion step with the
+/// current block (below, a degree is too little work to share between threads).
+const PIPELINE_DEGREE: usize = 128;
+
 /// Streams the complex blocks `D^l(R)`, `l = 0..=lmax` (PSH (9)), calling `f(l, block)`
-/// with the block row-major, rows `m = -l..=l`, columns `m' = -l..=l`. Memory `O(lmax^2)`.
+/// with the block row-major, rows `m = -l..=l`, columns `m' = -l..=l`, in order of `l`.
+/// Memory `O(lmax^2)`.
+///
+/// With more than one thread, the recursion step to degree `l + 1` runs while block `l`
+/// is written and passed to `f`; the blocks are the same to the bit.
 pub fn for_each_block(
     r: &Rotation3<f64>,
     lmax: usize,
-    mut f: impl FnMut(usize, &[Complex64]),
+    mut f: impl FnMut(usize, &[Complex64]) + Send,
 ) -> Result<()> {
     let (alpha, beta, gamma) = euler_zyz(r);
     let mut rec = SmallDRecursion::new(beta, lmax)?;
     let mut block = Vec::with_capacity((2 * lmax + 1) * (2 * lmax + 1));
     let (ea, eg) = (phases(lmax, alpha), phases(lmax, gamma));
-    while let Some(l) = rec.advance() {
+    let mut gs = Vec::with_capacity(2 * lmax + 1);
+    rec.advance();
+    // On a worker thread, so that each join below hands its second half to the other
+    // worker instead of going through the pool's queue.
+    rayon::scope(|_| loop {
+        let l = rec.level / 2;
         let band = lmax - l..=lmax + l;
-        rec.complex_block(&ea[band.clone()], &eg[band], &mut block);
-        f(l, &block);
-    }
+        let SmallDRecursion {
+            steps,
+            cur,
+            mid,
+            next,
+            level,
+            ..
+        } = &mut rec;
+        let cur: &[f64] = cur;
+        let current = Level {
+            data: cur,
+            level: *level,
+            stride: steps.stride,
+        };
+        let mut emit = || {
+            current.complex_block(&ea[band.clone()], &eg[band.clone()], &mut gs, &mut block);
+            f(l, &block);
+        };
+        if l == lmax {
+            emit();
+            return;
+        }
+        let mut step = || steps.degree_step(cur, mid, next, *level);
+        if l >= PIPELINE_DEGREE {
+            rayon::join(emit, step);
+        } else {
+            emit();
+            step();
+        }
+        rec.finish_step();
+    });
     Ok(())
 }
 
@@ -280,6 +378,18 @@ fn phases(l: usize, angle: f64) -> Vec<Complex64> {
             Complex64::new(c, -(m.signum() as f64) * s)
         })
         .collect()
+}
+
+/// `out[k] = c p[k] v[k]`: a row of `D` from a row `v` of `d` and phases `p`.
+fn phase_row(
+    out: &mut [Complex64],
+    c: Complex64,
+    p: &[Complex64],
+    v: impl Iterator<Item = f64>,
+) {
+    for ((o, &p), v) in out.iter_mut().zip(p).zip(v) {
+        *o = Complex64::new((c.re * p.re - c.im * p.im) * v, (c.re * p.im + c.im * p.re) * v);
+    }
 }
 
 /// Real Wigner block PSH (13) from the complex one: `D^R = conj(U) D U^T`, where
@@ -566,6 +676,35 @@ mod tests {
                         assert!((got - expect).norm() < 1e-13, "l {l} m {m} l' {lp} m' {mp}");
                     }
                 }
+            }
+        }
+    }
+
+    /// The streamed complex blocks are `e^{-i m alpha} d_mm' e^{-i m' gamma}` with the
+    /// real blocks of the same recursion and phases from `sin_cos`, below and above the
+    /// pipelined degrees, and the same bits on one thread and on two.
+    #[test]
+    fn streamed_blocks_are_phases_times_small_d() {
+        let lmax = PIPELINE_DEGREE + 12;
+        let r = test_rotation();
+        let (alpha, beta, gamma) = euler_zyz(&r);
+        let collect = || {
+            let mut blocks = Vec::new();
+            for_each_block(&r, lmax, |_, b| blocks.push(b.to_vec())).unwrap();
+            blocks
+        };
+        let one = crate::testing::on_threads(1, collect);
+        let two = crate::testing::on_threads(2, collect);
+        assert_eq!(one, two);
+        let mut rec = SmallDRecursion::new(beta, lmax).unwrap();
+        let mut d = Vec::new();
+        while let Some(l) = rec.next_block(&mut d) {
+            let li = l as i64;
+            for (idx, (&got, &dv)) in one[l].iter().zip(&d).enumerate() {
+                let (m, mp) = ((idx / (2 * l + 1)) as i64 - li, (idx % (2 * l + 1)) as i64 - li);
+                let phase = -(m as f64 * alpha + mp as f64 * gamma);
+                let want = Complex64::new(phase.cos(), phase.sin()) * dv;
+                assert!((got - want).norm() < 1e-13, "l {l} m {m} m' {mp}: {got} {want}");
             }
         }
     }
