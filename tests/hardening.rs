@@ -275,23 +275,38 @@ fn the_memory_budget_is_set_by_flag_and_environment() {
         &["12X"],
     );
     // The projection's work space (not only its output) is checked: at lmax 1000 the
-    // output fits in 200 MiB, the SH scratch and the partial sums do not.
+    // output (one channel: 32 MB) fits in 48 MiB, the output with the work space of the
+    // order sums (about as much again) does not; both fit in 200 MiB.
     assert!(psh(&["reconstruct", &npz, "--cube", "8", "-o", out])
         .status
         .success());
-    refused(
-        &[
+    let project = |budget: &str| {
+        let input = format!("{out}_s%d.exr");
+        let output = format!("{out}.npz");
+        let args = [
             "--max-memory",
-            "200M",
+            budget,
             "project",
-            &format!("{out}_s%d.exr"),
+            &input,
             "--lmax",
             "1000",
             "-o",
-            &format!("{out}.npz"),
-        ],
+            &output,
+        ];
+        args.map(String::from)
+    };
+    let args = project("48M");
+    refused(
+        &args.iter().map(String::as_str).collect::<Vec<_>>(),
         1,
-        &["work space", "209715200"],
+        &["work space", "50331648"],
+    );
+    let args = project("200M");
+    let run = psh(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
     );
     // The transforms' recursion tables at lmax 4000 (about 1 GB) are checked before they
     // are built, for the scalar and the spin transforms alike.

@@ -1049,7 +1049,8 @@ fn project(a: &ProjectArgs) -> psh::Result<serde_json::Value> {
     let inputs = psh::io::stokes_map_files(&a.input)?;
     let (map, v) = writing(&inputs, &a.output, || {
         let map = psh::io::read_stokes_map(&a.input)?;
-        let v = map.project(codomain, a.lmax)?.windowed(a.window);
+        let mut v = map.project(codomain, a.lmax)?;
+        v.apply_window(a.window);
         psh::io::write_psh_npz(&a.output, &v)?;
         Ok((map, v))
     })?;

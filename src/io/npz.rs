@@ -237,8 +237,7 @@ pub fn write_psh_npz(path: impl AsRef<Path>, v: &PshVector) -> Result<()> {
         &[v.channels() as u64, n, np]
     };
     let texts = [("cod_type", v.codomain().name()), ("sh_type", "REAL")];
-    let stored = v.converted(FieldArgument::Travel);
-    write_archive(path, &texts, shape, stored.data().iter().copied())
+    write_archive(path, &texts, shape, v.data_in(FieldArgument::Travel))
 }
 
 /// Reads the isotropic coefficient matrices of a pBRDF, all channels, as stored: input

@@ -10,13 +10,18 @@
 //!
 //! The SH and spin-weighted SH are evaluated at one face's texels only, shared by all six
 //! faces and every channel; the rotations are exact, so the result equals the texel-wise
-//! quadrature over the whole cross ([`project_image`]) to rounding.
+//! quadrature over the whole cross ([`project_image`]) to rounding. The six faces'
+//! coefficients are held at once: above [`FOLD_BYTES`] of them (high degrees), the cross is
+//! projected as a whole instead, in the work space of one output.
 
 use super::{project_image, Codomain, PshVector};
 use crate::error::{check_len, Error, Result};
 use crate::geometry::frame::{CubeMapFrameField, PerspectiveFrameField};
 use crate::geometry::image_grid::{CubeCross, CubeFace, PixelGrid};
 use nalgebra::Rotation3;
+
+/// Bytes of the six faces' coefficients up to which the faces are folded onto one.
+pub const FOLD_BYTES: usize = 64 << 20;
 
 /// The faces, each with its block of the cross.
 const FACES: [CubeFace; 6] = [
@@ -60,8 +65,8 @@ impl PixelGrid for Face<'_> {
 /// PSH coefficients of `l <= lmax` of cube-cross Stokes images whose components are in
 /// the cube-map frame field ([`CubeMapFrameField`]); equal to
 /// `project_image(grid, &CubeMapFrameField, channels, codomain, lmax)` to rounding, about
-/// six times less basis evaluation. A NaN or infinite component on a face is an error
-/// naming the texel.
+/// six times less basis evaluation (up to [`FOLD_BYTES`] of face coefficients). A NaN or
+/// infinite component on a face is an error naming the texel.
 pub fn project_cube_map(
     grid: &CubeCross,
     channels: &[&[[f64; 4]]],
@@ -71,6 +76,10 @@ pub fn project_cube_map(
     let nch = channels.len();
     for ch in channels {
         check_len("Stokes image", grid.len(), ch.len())?;
+    }
+    let face_values = crate::sh::num_coeffs(lmax) * codomain.components().len() * nch;
+    if face_values.saturating_mul(6 * 8) > FOLD_BYTES {
+        return project_image(grid, &CubeMapFrameField, channels, codomain, lmax);
     }
     let front = Face {
         cross: grid,

@@ -3,20 +3,21 @@
 //! ([`crate::geometry::image_grid`]). Each texel's components are given in a frame field
 //! (e.g. the cube-map frame field of the shared environment maps) and converted to the
 //! theta-phi frame field of PSH (28) before they meet the basis (PSH (14)). Not exact (an
-//! image is not band-limited): the error is that of the midpoint rule per texel.
+//! image is not band-limited): the error is that of the midpoint rule per texel. The sums
+//! run order by order ([`crate::sh::order_sums`]): the work space is about the size of
+//! the output.
 
 use super::{Codomain, PshVector};
 use crate::error::{check_len, Error, Result};
 use crate::geometry::frame::FrameField;
 use crate::geometry::image_grid::PixelGrid;
-use crate::sh::lm_index;
-use crate::sh::pixel::{block_sum, partials_at_once, project_real_channels};
+use crate::sh::column_recursion::Columns;
+use crate::sh::order_sums::order_sums;
+use crate::sh::pixel::{real_sums, Texels};
+use crate::sh::{lm_index, num_coeffs};
 use crate::stokes::StokesComponents;
-use crate::swsh::{HalfAngle, SpinEvaluator};
 use num_complex::Complex64;
-
-/// Texels per lane block of the spin-2 recursion.
-const LANES: usize = 16;
+use std::sync::Mutex;
 
 /// PSH coefficients of `l <= lmax` of Stokes images (one slice of texels per
 /// channel, row-major over `grid`, components `[s0, s1, s2, s3]` in `frames`), for the
@@ -33,138 +34,94 @@ pub fn project_image(
     for ch in channels {
         check_len("Stokes image", grid.len(), ch.len())?;
     }
-    // Spin 0: s0 and s3 are frame independent; one projection of all of them shares the
-    // SH evaluation.
-    let spin0: Vec<(usize, usize)> = codomain
-        .components()
+    let texels = Texels::of(grid);
+    let nch = channels.len();
+    // The output, the weighted values (at most two complex numbers per channel and texel)
+    // and the sums of the ranges of orders in flight (less than the output again).
+    crate::budget::check(
+        "the work space of a PSH projection",
+        &[num_coeffs(lmax) + 4 * texels.index.len(), nch, 8],
+        8,
+    )?;
+    let comps = codomain.components();
+    // Spin 0: s0 and s3 are frame independent; real images (component k of channel c in
+    // row k * nch + c) sharing one recursion.
+    let spin0: Vec<(usize, usize)> = comps
         .iter()
         .copied()
         .enumerate()
         .filter(|&(_, p)| p == 0 || p == 3)
         .collect();
-    let images: Vec<Vec<f64>> = spin0
-        .iter()
-        .flat_map(|&(_, p)| {
-            channels
-                .iter()
-                .map(move |ch| ch.iter().map(|s| s[p]).collect())
-        })
-        .collect();
-    if !images.is_empty() {
-        let refs: Vec<&[f64]> = images.iter().map(|v| v.as_slice()).collect();
-        for (i, coeffs) in project_real_channels(grid, &refs, lmax)?.iter().enumerate() {
-            out.set_component(i % channels.len(), spin0[i / channels.len()].0, coeffs);
+    // Spin 2: z = s1 + i s2 in the theta-phi frame (nothing below l = 2, PSH (31)).
+    let spin2 = lmax >= 2 && codomain.has_spin2();
+    let mut v = Vec::with_capacity(texels.index.len() * nch * spin0.len());
+    let mut z = Vec::with_capacity(if spin2 { texels.index.len() * nch } else { 0 });
+    for ((&i, &omega), site) in texels.index.iter().zip(&texels.omega).zip(&texels.sites) {
+        let w = grid.direction(i);
+        let rot = if spin2 {
+            // e_theta = (cos theta cos phi, cos theta sin phi, -sin theta).
+            let (cis, rho) = (site.cis(), w[0].hypot(w[1]));
+            to_theta_phi(&frames.frame(w)?, [w[2] * cis.re, w[2] * cis.im, -rho])
+        } else {
+            Complex64::default()
+        };
+        let stokes = channels
+            .iter()
+            .enumerate()
+            .map(|(c, ch)| {
+                StokesComponents::new(ch[i]).map_err(|_| Error::InvalidArgument {
+                    name: "Stokes texel",
+                    value: format!("channel {c}, texel {i}: {:?}", ch[i]),
+                    reason: "components must be finite".into(),
+                })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        for &(_, p) in &spin0 {
+            v.extend(channels.iter().map(|ch| ch[i][p] * omega));
+        }
+        if spin2 {
+            z.extend(
+                stokes
+                    .iter()
+                    .map(|s| rot * Complex64::new(s.s1(), s.s2()) * omega),
+            );
         }
     }
-    // Spin 2: a_lm = sum_i Omega_i conj(2Y_lm(w_i)) z_i, z = s1 + i s2 in the theta-phi frame
-    // (nothing below l = 2, PSH (31)).
-    if lmax < 2 {
-        return Ok(out);
+    if !spin0.is_empty() {
+        real_sums(
+            lmax,
+            &texels.sites,
+            &v,
+            &Mutex::new(|r: usize, lm: usize, x: f64| {
+                out.set_coefficient(r % nch, lm, spin0[r / nch].0, x)
+            }),
+        );
     }
-    let eval = SpinEvaluator::new(2, lmax)?;
-    let rows = 2 * channels.len();
-    let texels: Vec<(usize, f64)> = (0..grid.len())
-        .map(|i| (i, grid.solid_angle(i)))
-        .filter(|&(_, omega)| omega > 0.0)
-        .collect();
-    // Per worker four partial sums per coefficient and row (re, im of each channel),
-    // returned as their sum; the sum of the blocks.
-    let n = crate::sh::num_coeffs(lmax);
-    crate::budget::check(
-        "the work space of a spin-2 projection",
-        &[n, rows, 5 * partials_at_once() + 1],
-        8,
-    )?;
-    let acc = block_sum(&texels, LANES, n * rows, |block| {
-        let mut acc = vec![[0.0; 4]; n * rows];
-        let mut scratch = Vec::new();
-        let mut z = vec![[0.0; LANES]; rows];
-        let mut g = z.clone();
-        // cos(m phi), sin(m phi) per lane, m = 0..=lmax.
-        let mut cos_m = vec![[1.0; LANES]; lmax + 1];
-        let mut sin_m = vec![[0.0; LANES]; lmax + 1];
-        for chunk in block.chunks(LANES) {
-            let mut half = [HalfAngle::from_theta(0.0); LANES];
-            z.iter_mut().for_each(|r| r.fill(0.0));
-            for (j, &(i, omega)) in chunk.iter().enumerate() {
-                let w = grid.direction(i);
-                let rho = w[0].hypot(w[1]);
-                half[j] = HalfAngle::from_z_rho(w[2], rho);
-                // e^{i phi}, with phi = 0 at the poles (docs/conventions.md Sec. 1).
-                let (cp, sp) = if rho > 0.0 {
-                    (w[0] / rho, w[1] / rho)
-                } else {
-                    (1.0, 0.0)
-                };
-                (cos_m[1][j], sin_m[1][j]) = (cp, sp);
-                let rot = to_theta_phi(&frames.frame(w)?, [w[2] * cp, w[2] * sp, -rho]);
-                for (c, ch) in channels.iter().enumerate() {
-                    let s = StokesComponents::new(ch[i]).map_err(|_| Error::InvalidArgument {
-                        name: "Stokes texel",
-                        value: format!("channel {c}, texel {i}: {:?}", ch[i]),
-                        reason: "components must be finite".into(),
-                    })?;
-                    let v = rot * Complex64::new(s.s1(), s.s2()) * omega;
-                    z[2 * c][j] = v.re;
-                    z[2 * c + 1][j] = v.im;
-                }
-            }
-            // e^{i m phi} = e^{i (m-1) phi} e^{i phi}.
-            for m in 2..=lmax {
-                for j in 0..LANES {
-                    let (c, s) = (cos_m[m - 1][j], sin_m[m - 1][j]);
-                    cos_m[m][j] = c * cos_m[1][j] - s * sin_m[1][j];
-                    sin_m[m][j] = s * cos_m[1][j] + c * sin_m[1][j];
-                }
-            }
-            eval.for_each_order_lanes(&half, &mut scratch, |m, l0, col| {
-                // g = z e^{-i m phi} per lane, with sin(-m phi) = -sin(m phi).
-                let (cm, sm) = (
-                    &cos_m[m.unsigned_abs() as usize],
-                    &sin_m[m.unsigned_abs() as usize],
-                );
-                let sign = if m >= 0 { -1.0 } else { 1.0 };
-                for (zc, gc) in z.chunks_exact(2).zip(g.chunks_exact_mut(2)) {
-                    for j in 0..LANES {
-                        let (zr, zi, s) = (zc[0][j], zc[1][j], sign * sm[j]);
-                        gc[0][j] = zr * cm[j] - zi * s;
-                        gc[1][j] = zi * cm[j] + zr * s;
+    if spin2 {
+        let k1 = comps
+            .iter()
+            .position(|&p| p == 1)
+            .expect("checked: the codomain has s1");
+        let put = Mutex::new(&mut out);
+        // a_lm = sum_i Omega_i conj(2Y_lm(w_i)) z_i.
+        order_sums(
+            &Columns::new(2, lmax),
+            &texels.sites,
+            &z,
+            |_| true,
+            |m, l0, a| {
+                let mut out = put.lock().unwrap_or_else(|e| e.into_inner());
+                for (k, ak) in a.chunks_exact(nch).enumerate() {
+                    let lm = lm_index(l0 + k, m);
+                    for (c, x) in ak.iter().enumerate() {
+                        out.set_coefficient(c, lm, k1, x.re);
+                        out.set_coefficient(c, lm, k1 + 1, x.im);
                     }
                 }
-                accumulate(col, &g, &mut acc, |k| lm_index(l0 + k, m));
-            });
-        }
-        Ok(acc.iter().map(|v| (v[0] + v[1]) + (v[2] + v[3])).collect())
-    })?;
-    for c in 0..channels.len() {
-        let a: Vec<Complex64> = acc
-            .chunks_exact(rows)
-            .map(|r| Complex64::new(r[2 * c], r[2 * c + 1]))
-            .collect();
-        out.set_spin2(c, &a);
+            },
+        );
     }
     Ok(out)
-}
-
-/// `acc[index(k) * rows + r] += ` the four partial sums over the lanes of
-/// `col[k][lane] * g[r][lane]`, `rows = g.len()`.
-#[inline(never)]
-fn accumulate(
-    col: &[[f64; LANES]],
-    g: &[[f64; LANES]],
-    acc: &mut [[f64; 4]],
-    index: impl Fn(usize) -> usize,
-) {
-    let rows = g.len();
-    for (r, gr) in g.iter().enumerate() {
-        for (k, p) in col.iter().enumerate() {
-            let ar = &mut acc[index(k) * rows + r];
-            for t in 0..4 {
-                ar[t] += (p[t] * gr[t] + p[4 + t] * gr[4 + t])
-                    + (p[8 + t] * gr[8 + t] + p[12 + t] * gr[12 + t]);
-            }
-        }
-    }
 }
 
 /// The factor `e^{-2 i vartheta}` that takes `s1 + i s2` from frame `from` to the frame of
@@ -184,6 +141,83 @@ mod tests {
     use super::*;
     use crate::geometry::frame::CubeMapFrameField;
     use crate::geometry::image_grid::CubeCross;
+
+    /// The order-major sums against the texel-major quadrature PSH (32) written out with
+    /// the spin-weighted SH of [`crate::swsh::swsh`] (from the Wigner d, not the column
+    /// recursion): `f_lm0 + i 0 = sum Omega s0 conj(Y_lm)` and
+    /// `f_lm1 + i f_lm2 = sum Omega conj(2Y_lm) (s1 + i s2)` in the theta-phi frame, on a
+    /// cube cross (poles and seams among the texels), two channels.
+    #[test]
+    fn sums_equal_the_texel_quadrature() {
+        let lmax = 12;
+        let g = CubeCross::new(6).unwrap();
+        let field = CubeMapFrameField;
+        let r = crate::random::pseudo_random(g.len() * 8, 4);
+        let imgs: Vec<Vec<[f64; 4]>> = (0..2)
+            .map(|c| {
+                (0..g.len())
+                    .map(|i| std::array::from_fn(|p| r[(c * g.len() + i) * 4 + p]))
+                    .collect()
+            })
+            .collect();
+        let refs: Vec<&[[f64; 4]]> = imgs.iter().map(|v| v.as_slice()).collect();
+        let got = project_image(&g, &field, &refs, Codomain::Full, lmax).unwrap();
+        let n = num_coeffs(lmax);
+        let mut want = vec![[Complex64::default(); 3]; 2 * n];
+        for i in (0..g.len()).filter(|&i| g.solid_angle(i) > 0.0) {
+            let w = g.direction(i);
+            let (theta, phi) = (w[2].acos(), w[1].atan2(w[0]));
+            let (y0, y2) = (
+                crate::swsh::swsh(0, lmax, theta, phi).unwrap(),
+                crate::swsh::swsh(2, lmax, theta, phi).unwrap(),
+            );
+            let tp = crate::geometry::frame::ThetaPhiFrameField::default()
+                .frame(w)
+                .unwrap();
+            for (c, img) in imgs.iter().enumerate() {
+                let s = crate::stokes::StokesVector::new(
+                    StokesComponents::new(img[i]).unwrap(),
+                    field.frame(w).unwrap(),
+                )
+                .components_in(&tp)
+                .unwrap()
+                .to_array();
+                let om = g.solid_angle(i);
+                for lm in 0..n {
+                    let acc = &mut want[c * n + lm];
+                    acc[0] += om * s[0] * y0[lm].conj();
+                    acc[1] += om * Complex64::new(s[1], s[2]) * y2[lm].conj();
+                    acc[2] += om * s[3] * y0[lm].conj();
+                }
+            }
+        }
+        // Real SH coefficients of s0, s3 from the complex ones (PSH (12)).
+        let real = |a: &[[Complex64; 3]], c: usize, l: usize, m: i64, k: usize| {
+            let pos = a[c * n + lm_index(l, m.abs())][k];
+            match m.signum() {
+                0 => pos.re,
+                1 => std::f64::consts::SQRT_2 * pos.re,
+                _ => -std::f64::consts::SQRT_2 * pos.im,
+            }
+        };
+        for c in 0..2 {
+            for l in 0..=lmax {
+                for m in -(l as i64)..=l as i64 {
+                    let z = want[c * n + lm_index(l, m)][1];
+                    let expect = [
+                        real(&want, c, l, m, 0),
+                        if l >= 2 { z.re } else { 0.0 },
+                        if l >= 2 { z.im } else { 0.0 },
+                        real(&want, c, l, m, 2),
+                    ];
+                    for (p, e) in expect.iter().enumerate() {
+                        let x = got.get(c, l, m, p).unwrap();
+                        assert!((x - e).abs() < 1e-13, "c {c} l {l} m {m} p {p}: {x} vs {e}");
+                    }
+                }
+            }
+        }
+    }
 
     /// A band-limited field sampled on cube maps (components in the cube-map frame field)
     /// projects back to its coefficients up to the midpoint-rule error, falling like 1/e^2.

@@ -118,13 +118,37 @@ impl PshVector {
     /// `f'_lm0 = (-1)^l f_lm0`, `f'_lm3 = -(-1)^l f_lm3`, `a'_lm = (-1)^{l+m} conj(a_{l,-m})`
     /// for `a = f_lm1 + i f_lm2` (derived in `proofs/travel-convention.md`; an involution).
     pub fn converted(&self, argument: FieldArgument) -> PshVector {
-        if argument == self.argument {
-            self.clone()
-        } else {
-            let mut out = self.reversed_directions();
-            out.argument = argument;
-            out
+        PshVector {
+            data: self.data_in(argument).collect(),
+            argument,
+            ..*self
         }
+    }
+
+    /// The data of [`Self::converted`] (layout of [`Self::data`]), entry by entry, without
+    /// a copy of the vector.
+    pub fn data_in(&self, argument: FieldArgument) -> impl Iterator<Item = f64> + '_ {
+        let comps = self.codomain.components();
+        let same = argument == self.argument;
+        (0..self.data.len()).map(move |i| {
+            if same {
+                return self.data[i];
+            }
+            let (k, lm) = (i % comps.len(), i / comps.len());
+            let c = lm / num_coeffs(self.lmax);
+            let (l, m) = crate::sh::lm_of_index(lm % num_coeffs(self.lmax));
+            let l = l as i64;
+            match comps[k] {
+                0 => parity(l) * self.data[i],
+                3 => -parity(l) * self.data[i],
+                // Re and Im of (-1)^{l+m} conj(a_{l,-m}).
+                p => {
+                    let j = self.offset(c, lm_index(l as usize, -m)) + k;
+                    let sign = if p == 1 { 1.0 } else { -1.0 };
+                    sign * parity(l + m) * self.data[j]
+                }
+            }
+        })
     }
 
     /// The data, `[channel][l*l + l + m][p]`.
@@ -233,16 +257,21 @@ impl PshVector {
     /// ([`Window`]; the same band limit): ringing traded for blur, commuting with
     /// rotations and convolutions (`proofs/windowed-band-limits.md`).
     pub fn windowed(&self, window: Window) -> PshVector {
+        let mut out = self.clone();
+        out.apply_window(window);
+        out
+    }
+
+    /// [`Self::windowed`] in place.
+    pub fn apply_window(&mut self, window: Window) {
         let w = window.factors(self.lmax);
         let np = self.codomain.components().len();
-        let mut out = self.clone();
-        for x in out.data.chunks_exact_mut(num_coeffs(self.lmax) * np) {
+        for x in self.data.chunks_exact_mut(num_coeffs(self.lmax) * np) {
             for (j, f) in x.chunks_exact_mut(np).enumerate() {
                 let wl = w[crate::sh::lm_of_index(j).0];
                 f.iter_mut().for_each(|v| *v *= wl);
             }
         }
-        out
     }
 
     /// The energy of each degree, `E_l = sum_{c, m, p} f_lmp^2` (`l <= lmax`): by
@@ -306,40 +335,6 @@ impl PshVector {
         PshEvaluator::new(self.lmax)?.evaluate_all(self, w)
     }
 
-    /// The coefficients of `F'(v) = (s0, s1, -s2, -s3)` of `F(-v)` in the theta-phi frames,
-    /// with the argument label unchanged ([`Self::converted`] sets it).
-    fn reversed_directions(&self) -> PshVector {
-        let mut out = self.clone();
-        let comps = self.codomain.components();
-        for c in 0..self.channels {
-            for (k, &p) in comps.iter().enumerate() {
-                if p == 0 || p == 3 {
-                    let f = self.component(c, k);
-                    let sign3 = if p == 3 { -1.0 } else { 1.0 };
-                    let g: Vec<f64> = (0..f.len())
-                        .map(|i| {
-                            let (l, _) = crate::sh::lm_of_index(i);
-                            sign3 * parity(l as i64) * f[i]
-                        })
-                        .collect();
-                    out.set_component(c, k, &g);
-                }
-            }
-            if !self.codomain.has_spin2() {
-                continue;
-            }
-            let a = self.spin2(c);
-            let b: Vec<Complex64> = (0..a.len())
-                .map(|i| {
-                    let (l, m) = crate::sh::lm_of_index(i);
-                    parity(l as i64 + m) * a[lm_index(l, -m)].conj()
-                })
-                .collect();
-            out.set_spin2(c, &b);
-        }
-        out
-    }
-
     /// The coefficients, mutable (layout of [`Self::data`]).
     pub(super) fn data_mut(&mut self) -> &mut [f64] {
         &mut self.data
@@ -350,6 +345,12 @@ impl PshVector {
         (0..num_coeffs(self.lmax))
             .map(|i| self.data[self.offset(c, i) + k])
             .collect()
+    }
+
+    /// Sets component slot `k` of coefficient `lm` (flat index) of channel `c`.
+    pub(super) fn set_coefficient(&mut self, c: usize, lm: usize, k: usize, x: f64) {
+        let o = self.offset(c, lm) + k;
+        self.data[o] = x;
     }
 
     pub(super) fn set_component(&mut self, c: usize, k: usize, v: &[f64]) {

@@ -20,8 +20,9 @@
 //! recursion, so that nothing overflows or underflows, and run on many polar angles at
 //! once in lock step (lanes), as [`crate::sh::legendre::Legendre::for_each_column_lanes`].
 
-use super::legendre::{BIG, SCALE_BITS, SMALL};
+use super::legendre::{lane_scale, rescale_lanes, BIG, LANE_BLOCK, SCALE_BITS, SMALL};
 use std::f64::consts::PI;
+use std::ops::Range;
 
 /// `cos(theta/2)`, `sin(theta/2)` of a polar angle in `[0, pi]`: the variables of the start
 /// and of `u = 2 sin^2(theta/2)`.
@@ -111,6 +112,62 @@ impl Columns {
     /// The column of order `m`.
     pub(crate) fn of(&self, m: i64) -> &Column {
         &self.list[self.index(m)]
+    }
+
+    /// Walks the columns of walk-order indices `range` whose order `m` has `keep(m)`, at
+    /// `N` polar angles at once (given by their half angles): `f(m, l0, column)` with
+    /// `column[l - l0][j] = Lambda_lm` at `half[j]`, `l0 = max(|m|, |s|)`, in walk order
+    /// (`|m|` increasing). The starts of the columns before are walked through (one factor
+    /// each), the recursion runs for the columns handed over only.
+    ///
+    /// As in [`super::legendre::Legendre::for_each_column_lanes`], values below the f64
+    /// range carry a binary exponent (a multiple of `SCALE_BITS`), checked once per
+    /// [`LANE_BLOCK`] steps; values still below `2^-SCALE_BITS` when handed over are
+    /// negligible (they come out as zero or subnormal). `scratch` holds the column.
+    pub(crate) fn for_each_column_lanes<const N: usize>(
+        &self,
+        half: &[HalfAngle; N],
+        range: Range<usize>,
+        keep: impl Fn(i64) -> bool,
+        scratch: &mut Vec<[f64; N]>,
+        mut f: impl FnMut(i64, usize, &[[f64; N]]),
+    ) {
+        let lmax = self.lmax;
+        scratch.resize(lmax + 1, [0.0; N]);
+        let u = half.map(|h| h.u());
+        let mut walk = StartWalk::new(half, self.spin);
+        for (i, col) in self.list[..range.end].iter().enumerate() {
+            let (mut p1, mut exp) = walk.next(col);
+            if i < range.start || !keep(col.m) {
+                continue;
+            }
+            let out = &mut scratch[..=lmax - col.l0];
+            let mut p2 = [0.0; N];
+            let mut scaled = exp.iter().any(|&e| e < 0);
+            let mut fac = lane_scale(&exp);
+            for j in 0..N {
+                out[0][j] = p1[j] * fac[j];
+            }
+            // col.coeffs[0] is the start step, col.coeffs[k] the step to degree k.
+            let mut k = 1;
+            while k < out.len() {
+                let end = (k + LANE_BLOCK).min(out.len());
+                for (o, &[a, b, c]) in out[k..end].iter_mut().zip(&col.coeffs[k..end]) {
+                    for j in 0..N {
+                        let p = a * ((c * p1[j] - b * p2[j]) - u[j] * p1[j]);
+                        p2[j] = p1[j];
+                        p1[j] = p;
+                        o[j] = p * fac[j];
+                    }
+                }
+                if scaled {
+                    scaled = rescale_lanes(&mut p1, &mut p2, &mut exp);
+                    fac = lane_scale(&exp);
+                }
+                k = end;
+            }
+            f(col.m, col.l0, out);
+        }
     }
 }
 

@@ -15,6 +15,7 @@ pub(crate) mod gaunt_table;
 pub(crate) mod grid;
 pub(crate) mod harmonics;
 pub(crate) mod legendre;
+pub(crate) mod order_sums;
 pub(crate) mod order_transform;
 pub(crate) mod pixel;
 pub(crate) mod solid;

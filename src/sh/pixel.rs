@@ -1,61 +1,79 @@
 //! Projection of sampled images onto SH: `f_lm ~ sum_i Omega_i f(w_i) Y_lm(w_i)`, the
 //! texel-wise quadrature of PSH (3) with exact per-texel solid angles `Omega_i`
-//! ([`crate::geometry::image_grid`]). Not exact (an image is not band-limited): the
-//! error is that of the midpoint rule per texel.
+//! ([`crate::geometry::image_grid`]), summed order by order ([`super::order_sums`]). Not
+//! exact (an image is not band-limited): the error is that of the midpoint rule per texel.
 
-use super::harmonics::ShEvaluator;
+use super::column_recursion::Columns;
+use super::order_sums::{order_sums, Site};
+use super::{check_lmax, lm_index, num_coeffs};
 use crate::error::{check_len, finite, Result};
 use crate::geometry::image_grid::PixelGrid;
-use nalgebra::{DMatrix, DMatrixView};
+use num_complex::Complex64;
+use std::f64::consts::SQRT_2;
+use std::sync::Mutex;
 
-/// Texels evaluated per batch at most (bounds the scratch to `CHUNK (lmax+1)^2` values).
-const CHUNK: usize = 1024;
-
-/// Values of the SH scratch of one worker at most: high degrees take fewer texels per
-/// batch ([`texels_per_batch`]), so that the scratch stays within 32 MB.
-const SCRATCH_VALUES: usize = 1 << 22;
-
-/// Blocks of a parallel texel sum: a fixed number, so that the sum's rounding does not
-/// depend on the number of threads.
-const BLOCKS: usize = 8;
-
-/// Texels per batch for `n` SH values per texel: [`CHUNK`], fewer when `CHUNK n` would
-/// exceed [`SCRATCH_VALUES`], at least one.
-fn texels_per_batch(n: usize) -> usize {
-    (SCRATCH_VALUES / n.max(1)).clamp(1, CHUNK)
+/// The texels of a grid on the sphere (non-zero solid angle: those off a cube cross are
+/// not), in grid order.
+pub(crate) struct Texels {
+    /// Index in the grid.
+    pub(crate) index: Vec<usize>,
+    /// Solid angle.
+    pub(crate) omega: Vec<f64>,
+    pub(crate) sites: Vec<Site>,
 }
 
-/// Partial sums [`block_sum`] holds at once: one per worker thread.
-pub(crate) fn partials_at_once() -> usize {
-    rayon::current_num_threads().clamp(1, BLOCKS)
-}
-
-/// `sum_b partial(block_b)` element-wise over at most [`BLOCKS`] contiguous blocks of
-/// `items` (whole multiples of `chunk` items), the blocks in parallel and their partial
-/// sums added in block order (deterministic). Blocks run in waves of
-/// [`partials_at_once`], so at most that many partials (of `len` values) are held besides
-/// the sum. Error: the first partial's error.
-pub(crate) fn block_sum<T: Sync>(
-    items: &[T],
-    chunk: usize,
-    len: usize,
-    partial: impl Fn(&[T]) -> Result<Vec<f64>> + Sync,
-) -> Result<Vec<f64>> {
-    use rayon::prelude::*;
-    let per_block = items.len().div_ceil(BLOCKS).div_ceil(chunk).max(1) * chunk;
-    let blocks: Vec<&[T]> = items.chunks(per_block).collect();
-    let mut sum = vec![0.0; len];
-    for wave in blocks.chunks(partials_at_once()) {
-        let parts = wave
-            .par_iter()
-            .map(|b| partial(b))
-            .collect::<Result<Vec<_>>>()?;
-        for p in parts {
-            check_len("partial sum", len, p.len())?;
-            sum.iter_mut().zip(p).for_each(|(a, b)| *a += b);
+impl Texels {
+    pub(crate) fn of(grid: &impl PixelGrid) -> Self {
+        let (index, omega): (Vec<usize>, Vec<f64>) = (0..grid.len())
+            .map(|i| (i, grid.solid_angle(i)))
+            .filter(|&(_, w)| w > 0.0)
+            .unzip();
+        let sites = index
+            .iter()
+            .map(|&i| Site::new(grid.direction(i)))
+            .collect();
+        Self {
+            index,
+            omega,
+            sites,
         }
     }
-    Ok(sum)
+}
+
+/// Real SH coefficients (PSH (12)) of real images: `v[i * rows + r]` is image `r` at
+/// `sites[i]` (weights folded in); `put(r, lm, f_lm)` for each coefficient of `l <= lmax`
+/// (flat index `lm`), `put` locked once per order. From the sums
+/// `a_lm = sum_i conj(Y_lm(w_i)) v_i` of the orders `m >= 0` ([`order_sums`]) and
+/// `Y^R_lm = sqrt(2) Re Y_lm`, `Y_l0`, `sqrt(2) Im Y_{l|m|}` (`m > 0`, `0`, `< 0`;
+/// [`super::harmonics`]): `f_l0 = Re a_l0`, `f_lm = sqrt(2) Re a_lm`,
+/// `f_{l,-m} = -sqrt(2) Im a_lm`.
+pub(crate) fn real_sums(
+    lmax: usize,
+    sites: &[Site],
+    v: &[f64],
+    put: &Mutex<impl FnMut(usize, usize, f64) + Send>,
+) {
+    let rows = v.len() / sites.len().max(1);
+    let z: Vec<Complex64> = v.iter().map(|&x| Complex64::new(x, 0.0)).collect();
+    order_sums(
+        &Columns::new(0, lmax),
+        sites,
+        &z,
+        |m| m >= 0,
+        |m, l0, a| {
+            let mut put = put.lock().unwrap_or_else(|e| e.into_inner());
+            for (k, ar) in a.chunks_exact(rows).enumerate() {
+                for (r, x) in ar.iter().enumerate() {
+                    if m == 0 {
+                        put(r, lm_index(l0 + k, 0), x.re);
+                    } else {
+                        put(r, lm_index(l0 + k, m), SQRT_2 * x.re);
+                        put(r, lm_index(l0 + k, -m), -SQRT_2 * x.im);
+                    }
+                }
+            }
+        },
+    );
 }
 
 /// Real SH coefficients (PSH (12)) of `l <= lmax` of one real image on `grid`.
@@ -70,51 +88,39 @@ pub fn project_real(
 }
 
 /// Real SH coefficients of several images (channels) on the same grid, sharing the SH
-/// evaluation: one coefficient vector per channel. Per chunk of texels the sums are one
-/// matrix product `F += Y^T (Omega v)` (nalgebra's `gemm`).
+/// recursion: one coefficient vector per channel, summed order by order.
 pub fn project_real_channels(
     grid: &(impl PixelGrid + Sync),
     channels: &[&[f64]],
     lmax: usize,
 ) -> Result<Vec<Vec<f64>>> {
+    check_lmax(lmax)?;
     for c in channels {
         check_len("image values", grid.len(), c.len())?;
     }
-    let ev = ShEvaluator::new(lmax)?;
-    let (n, nch) = (ev.len(), channels.len());
-    let batch = texels_per_batch(n);
-    // Per worker the scratch and a partial sum; the sum and the coefficients returned.
-    let workers = partials_at_once();
+    let nch = channels.len();
+    let texels = Texels::of(grid);
+    // The coefficients, the weighted values (as complex numbers) and the sums of the
+    // ranges of orders in flight (less than the coefficients again).
     crate::budget::check(
         "the work space of an SH projection",
-        &[n, workers * (batch + nch) + 2 * nch],
+        &[2 * num_coeffs(lmax) + 3 * texels.index.len(), nch],
         8,
     )?;
-    let texels: Vec<(usize, f64)> = (0..grid.len())
-        .map(|i| (i, grid.solid_angle(i)))
-        .filter(|&(_, w)| w > 0.0)
-        .collect();
-    // Column-major n x nch.
-    let sum = block_sum(&texels, batch, n * nch, |block| {
-        let mut out = DMatrix::<f64>::zeros(n, nch);
-        let mut y = vec![0.0; batch * n];
-        for chunk in block.chunks(batch) {
-            let dirs: Vec<[f64; 3]> = chunk.iter().map(|&(i, _)| grid.direction(i)).collect();
-            let y = &mut y[..chunk.len() * n];
-            ev.real_batch(&dirs, y)?;
-            let mut v = DMatrix::<f64>::zeros(chunk.len(), nch);
-            for (c, vals) in channels.iter().enumerate() {
-                for (k, &(i, w)) in chunk.iter().enumerate() {
-                    v[(k, c)] = finite("texel value", vals[i])? * w;
-                }
-            }
-            // Y (chunk x n, row-major) is Y^T column-major.
-            let yt = DMatrixView::from_slice(y, n, chunk.len());
-            out.gemm(1.0, &yt, &v, 1.0);
+    let mut v = Vec::with_capacity(texels.index.len() * nch);
+    for (&i, &w) in texels.index.iter().zip(&texels.omega) {
+        for c in channels {
+            v.push(finite("texel value", c[i])? * w);
         }
-        Ok(out.as_slice().to_vec())
-    })?;
-    Ok(sum.chunks_exact(n).map(<[f64]>::to_vec).collect())
+    }
+    let mut out = vec![vec![0.0; num_coeffs(lmax)]; nch];
+    real_sums(
+        lmax,
+        &texels.sites,
+        &v,
+        &Mutex::new(|r: usize, lm: usize, x: f64| out[r][lm] = x),
+    );
+    Ok(out)
 }
 
 #[cfg(test)]
@@ -159,13 +165,10 @@ mod tests {
         assert!((c[target] - 1.0).abs() < 1e-3);
     }
 
-    /// Fixed blocks added in order: the same bits on 1, 2 and 3 threads, also where high
-    /// degrees take fewer texels per batch (lmax 70: 832 texels of 5041 values).
+    /// Each coefficient summed by one task in texel order: the same bits on 1, 2 and 3
+    /// threads.
     #[test]
     fn sums_are_identical_across_thread_counts() {
-        assert_eq!(texels_per_batch(num_coeffs(70)), 832);
-        assert_eq!(texels_per_batch(num_coeffs(1000)), 4);
-        assert_eq!(texels_per_batch(1), CHUNK);
         let g = Equirect::new(24, 48).unwrap();
         let v = crate::random::pseudo_random(g.len(), 3);
         let run = |threads: usize| {
@@ -174,6 +177,34 @@ mod tests {
         let one = run(1);
         assert_eq!(one, run(2));
         assert_eq!(one, run(3));
+    }
+
+    /// The order-major sums against the texel-major quadrature with the real SH of
+    /// [`ShEvaluator`] (their own recursion and the complex-to-real step of PSH (12)), two
+    /// channels, on a cube cross (poles and seams among the texels) to degree 40.
+    #[test]
+    fn sums_equal_the_texel_quadrature_of_the_real_sh() {
+        let lmax = 40;
+        let g = CubeCross::new(12).unwrap();
+        let ev = ShEvaluator::new(lmax).unwrap();
+        let a = crate::random::pseudo_random(g.len(), 7);
+        let b = crate::random::pseudo_random(g.len(), 8);
+        let got = project_real_channels(&g, &[&a, &b], lmax).unwrap();
+        let mut want = vec![vec![0.0; num_coeffs(lmax)]; 2];
+        let mut y = vec![0.0; num_coeffs(lmax)];
+        for i in (0..g.len()).filter(|&i| g.solid_angle(i) > 0.0) {
+            ev.real_batch(&[g.direction(i)], &mut y).unwrap();
+            for (w, v) in want.iter_mut().zip([&a, &b]) {
+                for (x, yk) in w.iter_mut().zip(&y) {
+                    *x += g.solid_angle(i) * v[i] * yk;
+                }
+            }
+        }
+        for (gc, wc) in got.iter().zip(&want) {
+            for (k, (x, y)) in gc.iter().zip(wc).enumerate() {
+                assert!((x - y).abs() < 1e-13, "coefficient {k}: {x} vs {y}");
+            }
+        }
     }
 
     #[test]

@@ -181,7 +181,11 @@ impl Level<'_> {
         let n = self.level + 1;
         let l = self.level / 2;
         gs.clear();
-        gs.extend(eg.iter().enumerate().map(|(k, &g)| if k % 2 == 0 { g } else { -g }));
+        gs.extend(
+            eg.iter()
+                .enumerate()
+                .map(|(k, &g)| if k % 2 == 0 { g } else { -g }),
+        );
         // Every element is written below: no need to clear.
         out.resize(n * n, Complex64::default());
         for i in 0..=l {
@@ -381,14 +385,12 @@ fn phases(l: usize, angle: f64) -> Vec<Complex64> {
 }
 
 /// `out[k] = c p[k] v[k]`: a row of `D` from a row `v` of `d` and phases `p`.
-fn phase_row(
-    out: &mut [Complex64],
-    c: Complex64,
-    p: &[Complex64],
-    v: impl Iterator<Item = f64>,
-) {
+fn phase_row(out: &mut [Complex64], c: Complex64, p: &[Complex64], v: impl Iterator<Item = f64>) {
     for ((o, &p), v) in out.iter_mut().zip(p).zip(v) {
-        *o = Complex64::new((c.re * p.re - c.im * p.im) * v, (c.re * p.im + c.im * p.re) * v);
+        *o = Complex64::new(
+            (c.re * p.re - c.im * p.im) * v,
+            (c.re * p.im + c.im * p.re) * v,
+        );
     }
 }
 
@@ -701,10 +703,16 @@ mod tests {
         while let Some(l) = rec.next_block(&mut d) {
             let li = l as i64;
             for (idx, (&got, &dv)) in one[l].iter().zip(&d).enumerate() {
-                let (m, mp) = ((idx / (2 * l + 1)) as i64 - li, (idx % (2 * l + 1)) as i64 - li);
+                let (m, mp) = (
+                    (idx / (2 * l + 1)) as i64 - li,
+                    (idx % (2 * l + 1)) as i64 - li,
+                );
                 let phase = -(m as f64 * alpha + mp as f64 * gamma);
                 let want = Complex64::new(phase.cos(), phase.sin()) * dv;
-                assert!((got - want).norm() < 1e-13, "l {l} m {m} m' {mp}: {got} {want}");
+                assert!(
+                    (got - want).norm() < 1e-13,
+                    "l {l} m {m} m' {mp}: {got} {want}"
+                );
             }
         }
     }

@@ -2,8 +2,7 @@
 //! `swsh::recursion`, `O(lmax^2)` per direction.
 
 use crate::error::{check_len, Error, Result};
-use crate::sh::column_recursion::{Columns, HalfAngle, StartWalk};
-use crate::sh::legendre::{lane_scale, rescale_lanes, LANE_BLOCK};
+use crate::sh::column_recursion::{Columns, HalfAngle};
 use crate::sh::{lm_index, num_coeffs};
 use num_complex::Complex64;
 use std::sync::Arc;
@@ -44,62 +43,15 @@ impl SpinEvaluator {
         self.columns.spin
     }
 
-    /// Walks the orders at `N` polar angles at once (given by their half angles):
-    /// `f(m, l0, column)` with `column[l - l0][j] = Lambda_lm` at `half[j]`,
-    /// `l0 = max(|m|, |s|)`, in the walk order of the columns (`|m|` increasing).
-    ///
-    /// As in [`crate::sh::legendre::Legendre::for_each_column_lanes`], values below the
-    /// f64 range carry a binary exponent (a multiple of `SCALE_BITS`), checked once per
-    /// [`LANE_BLOCK`] steps; values still below `2^-SCALE_BITS` when handed over are
-    /// negligible (they come out as zero or subnormal). `scratch` holds the column.
-    pub(crate) fn for_each_order_lanes<const N: usize>(
-        &self,
-        half: &[HalfAngle; N],
-        scratch: &mut Vec<[f64; N]>,
-        mut f: impl FnMut(i64, usize, &[[f64; N]]),
-    ) {
-        let lmax = self.lmax();
-        scratch.resize(lmax + 1, [0.0; N]);
-        let u = half.map(|h| h.u());
-        let mut walk = StartWalk::new(half, self.spin());
-        for col in &self.columns.list {
-            let (mut p1, mut exp) = walk.next(col);
-            let out = &mut scratch[..=lmax - col.l0];
-            let mut p2 = [0.0; N];
-            let mut scaled = exp.iter().any(|&e| e < 0);
-            let mut fac = lane_scale(&exp);
-            for j in 0..N {
-                out[0][j] = p1[j] * fac[j];
-            }
-            // col.coeffs[0] is the start step, col.coeffs[k] the step to degree k.
-            let mut k = 1;
-            while k < out.len() {
-                let end = (k + LANE_BLOCK).min(out.len());
-                for (o, &[a, b, c]) in out[k..end].iter_mut().zip(&col.coeffs[k..end]) {
-                    for j in 0..N {
-                        let p = a * ((c * p1[j] - b * p2[j]) - u[j] * p1[j]);
-                        p2[j] = p1[j];
-                        p1[j] = p;
-                        o[j] = p * fac[j];
-                    }
-                }
-                if scaled {
-                    scaled = rescale_lanes(&mut p1, &mut p2, &mut exp);
-                    fac = lane_scale(&exp);
-                }
-                k = end;
-            }
-            f(col.m, col.l0, out);
-        }
-    }
-
     /// Walks the orders at polar angle `theta` (in `[0, pi]`, unchecked): `f(m, l0, lambda)`
     /// with `lambda[l - l0] = Lambda_lm(theta)`, `l0 = max(|m|, |s|)` (one lane of
     /// [`SpinEvaluator::for_each_order_lanes`]).
     pub(crate) fn for_each_order(&self, theta: f64, mut f: impl FnMut(i64, usize, &[f64])) {
         let mut scratch = Vec::new();
-        self.for_each_order_lanes(
+        self.columns.for_each_column_lanes(
             &[HalfAngle::from_theta(theta)],
+            0..self.columns.list.len(),
+            |_| true,
             &mut scratch,
             |m, l0, col| f(m, l0, col.as_flattened()),
         );

@@ -20,7 +20,6 @@
 pub(crate) mod evaluator;
 pub(crate) mod transform;
 
-pub(crate) use crate::sh::column_recursion::HalfAngle;
 pub use evaluator::SpinEvaluator;
 pub use transform::SpinTransform;
 

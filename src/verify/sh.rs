@@ -71,6 +71,14 @@ pub fn checks() -> Vec<Check> {
             run: fast_vs_accurate,
         },
         Check {
+            id: "sh.pixel_projection",
+            source: "PSH (3), (12)",
+            description: "texel projection summed order by order (real coefficients from the complex sums, m >= 0) vs the texel-major sum with sh_real, cube cross 8, l <= 100",
+            tolerance: 1e-13,
+            proof: Some("proofs/pixel-solid-angles.md"),
+            run: pixel_projection,
+        },
+        Check {
             id: "sh.fast_path_l2048",
             source: "PSH (1)",
             description: "documented accuracy of the f64 table path (transforms, batch SH) vs the double-double path, every l <= 2048 at the stress angles (relative to band max)",
@@ -319,6 +327,25 @@ fn fast_vs_accurate() -> Result<f64> {
         }
     }
     Ok(worst)
+}
+
+fn pixel_projection() -> Result<f64> {
+    use crate::geometry::image_grid::{CubeCross, PixelGrid};
+    let lmax = 100;
+    let g = CubeCross::new(8)?;
+    let v = pseudo_random(g.len(), 29);
+    let got = crate::sh::project_real(&g, &v, lmax)?;
+    let mut want = vec![0.0; num_coeffs(lmax)];
+    for i in (0..g.len()).filter(|&i| g.solid_angle(i) > 0.0) {
+        let (t, p) = direction_angles(g.direction(i))?;
+        for (x, y) in want.iter_mut().zip(sh_real(lmax, t, p)?) {
+            *x += g.solid_angle(i) * v[i] * y;
+        }
+    }
+    Ok(got
+        .iter()
+        .zip(&want)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs())))
 }
 
 fn fast_path_l2048() -> Result<f64> {
