@@ -77,7 +77,8 @@ pub fn project_cube_map(
     for ch in channels {
         check_len("Stokes image", grid.len(), ch.len())?;
     }
-    let face_values = crate::sh::num_coeffs(lmax) * codomain.components().len() * nch;
+    crate::sh::check_lmax(lmax)?;
+    let face_values = crate::sh::num_coeffs(lmax).saturating_mul(codomain.components().len() * nch);
     if face_values.saturating_mul(6 * 8) > FOLD_BYTES {
         return project_image(grid, &CubeMapFrameField, channels, codomain, lmax);
     }
