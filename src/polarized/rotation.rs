@@ -9,57 +9,49 @@
 //!   (PSH (37)), i.e. `a'_lm = sum_m' D^l_mm' a_lm'` for `a = f_1 + i f_2`;
 //! - no coupling between spin 0 and spin 2, nor between different `l`.
 //!
-//! [`PshRotation`] stores the blocks for repeated use (memory `~(4/3) lmax^3` numbers,
+//! The blocks are applied through the Euler factors of PSH (9),
+//! `D^l(R) = Z(alpha) d^l(beta) Z(gamma)`: the z-rotations are phases `e^{-i m angle}`
+//! (2x2 rotations of the orders `+-m` in the real basis), and `d^l(beta)` is applied from
+//! its rows `m >= 0` ([`SmallDHalf`]) as dot products with folded columns
+//! (`proofs/psh-rotation.md`, "Rotation through the Euler factors"):
+//! about `(l + 1)(2l + 1)` multiply-adds per column instead of `(2l + 1)^2` complex ones.
+//! [`PshRotation`] stores the halves for repeated use (memory `~(2/3) lmax^3` numbers,
 //! checked against [`crate::budget`]); [`PshVector::rotated`] streams them one degree at
 //! a time (memory `O(lmax^2)`), with the same result to the bit.
 
-use super::{Codomain, PshVector};
+use super::PshVector;
 use crate::error::{Error, Result};
-use crate::sh::wigner::{check_block_memory, for_each_block, real_block};
+use crate::geometry::euler_zyz;
+use crate::sh::harmonics::cis_m;
+use crate::sh::wigner::{check_block_memory, for_each_small_d, SmallDHalf};
 use nalgebra::Rotation3;
-use num_complex::Complex64;
+use std::f64::consts::SQRT_2;
 use wide::f64x4;
 
-/// The blocks of one degree: real (PSH (13)) and, for spin 2, complex (PSH (9)).
-#[derive(Clone, Debug)]
-struct Degree {
-    real: Vec<f64>,
-    complex: Option<Vec<Complex64>>,
-}
-
-/// The PSH coefficient matrix of one rotation, up to a band limit.
+/// The PSH coefficient matrix of one rotation, up to a band limit: the phases of its
+/// Euler angles and the halves of its small-d blocks.
 #[derive(Clone, Debug)]
 pub struct PshRotation {
-    degrees: Vec<Degree>,
+    phases: EulerPhases,
+    /// Degree `l`: the rows of [`SmallDHalf::to_vec`].
+    halves: Vec<Vec<f64>>,
 }
 
 impl PshRotation {
-    /// The blocks of rotation `r` for `l <= lmax`.
+    /// The blocks of rotation `r` for `l <= lmax`. Error: their memory
+    /// (`sum (l+1)(2l+1)` numbers) over the budget ([`crate::budget`]; rotate one vector
+    /// with [`PshVector::rotated`] instead).
     pub fn new(r: &Rotation3<f64>, lmax: usize) -> Result<Self> {
-        Self::for_codomain(r, lmax, Codomain::Full)
-    }
-
-    /// The blocks that act on `codomain`: the spin-2 blocks only when it has `s1, s2`
-    /// (scalar SH needs the real Wigner blocks alone). Error: the blocks' memory
-    /// (`sum (2l+1)^2` numbers) over the budget ([`crate::budget`]).
-    pub fn for_codomain(r: &Rotation3<f64>, lmax: usize, codomain: Codomain) -> Result<Self> {
-        let spin2 = codomain.has_spin2();
-        check_block_memory(lmax, if spin2 { 24 } else { 8 })?;
-        let mut degrees = Vec::with_capacity(lmax + 1);
-        let mut real = Vec::new();
-        for_each_block(r, lmax, |l, b| {
-            real_block(l, b, &mut real);
-            degrees.push(Degree {
-                real: real.clone(),
-                complex: spin2.then(|| b.to_vec()),
-            });
-        })?;
-        Ok(Self { degrees })
+        check_block_memory(lmax, true, 8)?;
+        let (phases, beta) = EulerPhases::new(r, lmax);
+        let mut halves = Vec::with_capacity(lmax + 1);
+        for_each_small_d(beta, lmax, |half| halves.push(half.to_vec()))?;
+        Ok(Self { phases, halves })
     }
 
     /// The band limit.
     pub fn lmax(&self) -> usize {
-        self.degrees.len() - 1
+        self.halves.len() - 1
     }
 
     /// The coefficients of `R_F[f]` (PSH (35)) for the coefficients of `f`.
@@ -71,16 +63,11 @@ impl PshRotation {
                 reason: format!("the rotation was built for lmax {}", self.lmax()),
             });
         }
-        if v.codomain().has_spin2() && self.degrees[0].complex.is_none() {
-            return Err(Error::InvalidArgument {
-                name: "PSH vector codomain",
-                value: v.codomain().name().into(),
-                reason: "the rotation was built without spin-2 blocks".into(),
-            });
-        }
         let mut out = v.clone();
-        for (l, d) in self.degrees.iter().enumerate() {
-            apply_degree(l, &d.real, d.complex.as_deref(), v, &mut out);
+        let mut scratch = Scratch::default();
+        for (l, rows) in self.halves.iter().enumerate() {
+            let half = SmallDHalf::from_rows(l, rows)?;
+            apply_degree(half, &self.phases, v, &mut out, &mut scratch);
         }
         Ok(out)
     }
@@ -92,120 +79,238 @@ impl PshVector {
     /// [`PshRotation::rotate`], which keeps the blocks for many vectors.
     pub fn rotated(&self, r: &Rotation3<f64>) -> Result<PshVector> {
         let mut out = self.clone();
-        let spin2 = self.codomain().has_spin2();
-        let mut real = Vec::new();
-        for_each_block(r, self.lmax(), |l, b| {
-            real_block(l, b, &mut real);
-            apply_degree(l, &real, spin2.then_some(b), self, &mut out);
+        let (phases, beta) = EulerPhases::new(r, self.lmax());
+        let mut scratch = Scratch::default();
+        for_each_small_d(beta, self.lmax(), |half| {
+            apply_degree(half, &phases, self, &mut out, &mut scratch)
         })?;
         Ok(out)
     }
 }
 
-/// Degree `l` of `R_F[v]` into `out`: the real block on the spin-0 components, the
-/// complex block on `a = f_1 + i f_2` (PSH (37)); row `m` is `sum_m' B_mm' x_m'`.
+/// `(cos m angle, sin m angle)`, `m = 0..=lmax`, of the Euler angles `alpha` (applied
+/// last) and `gamma` (applied first) of `R = Rz(alpha) Ry(beta) Rz(gamma)`.
+#[derive(Clone, Debug)]
+struct EulerPhases {
+    alpha: Vec<(f64, f64)>,
+    gamma: Vec<(f64, f64)>,
+}
+
+impl EulerPhases {
+    /// The phases of `r` and its angle `beta`.
+    fn new(r: &Rotation3<f64>, lmax: usize) -> (Self, f64) {
+        let (alpha, beta, gamma) = euler_zyz(r);
+        let table = |angle: f64| (0..=lmax).map(|m| cis_m(m, angle)).collect();
+        let phases = Self {
+            alpha: table(alpha),
+            gamma: table(gamma),
+        };
+        (phases, beta)
+    }
+}
+
+/// The columns and products of [`apply_degree`], kept between degrees.
+#[derive(Default)]
+struct Scratch {
+    /// The [`gain`] of each channel's spin-0 components and spin-2 pair, in column order.
+    gains: Vec<f64>,
+    x: Vec<f64>,
+    z: Vec<f64>,
+}
+
+/// The factor applied to a column before the sums and undone after them: `2^-1000` when
+/// its largest magnitude passes `2^900` (where a turn or the sums of [`products`] could
+/// overflow although the result does not), else 1. A power of two: exact, so the result
+/// is that of the unscaled arithmetic wherever that one is finite.
+fn gain(column: impl Iterator<Item = f64>) -> f64 {
+    let max = column.fold(0.0f64, |a, x| a.max(x.abs()));
+    if max > 2f64.powi(900) {
+        2f64.powi(-1000)
+    } else {
+        1.0
+    }
+}
+
+/// `(-1)^m`.
+fn parity(m: usize) -> f64 {
+    if m % 2 == 0 {
+        1.0
+    } else {
+        -1.0
+    }
+}
+
+/// Degree `l` of `R_F[v]` into `out` (PSH (35)-(37)) through `Z(alpha) d^l Z(gamma)`
+/// (`proofs/psh-rotation.md`, "Rotation through the Euler factors").
 ///
-/// The columns (every channel's spin-0 components, every channel's `a`) are gathered
-/// contiguous in `m'`, so that each entry is a dot product of a block row with a column in
-/// SIMD lanes ([`lane_dot`]), each block row read once per degree from cache.
+/// Every column is first turned by `Z(gamma)` and laid out in the order `m' = l..=-l` of
+/// the rows of `half`, then all of them meet each row once ([`products`]):
+/// - a spin-0 component `x` (after its real z-rotation) gives `u` (`u_{+-k} = (+-1)^k x_k`,
+///   `u_0 = sqrt(2) x_0`) and `w` (`w_k = x_{-k}`, `w_{-k} = -(-1)^k x_{-k}`, `w_0 = 0`),
+///   and the real `d` block gives `y_k = d_k . u`, `y_0 = d_0 . u / sqrt(2)`,
+///   `y_{-k} = d_k . w` (`k >= 1`);
+/// - a spin-2 `a = f_1 + i f_2` (after its phases) gives `x` and `x~_k = (-1)^k x_{-k}`
+///   (real and imaginary parts), and `z_m = d_m . x`, `z_{-m} = (-1)^m d_m . x~`.
 fn apply_degree(
-    l: usize,
-    real: &[f64],
-    complex: Option<&[Complex64]>,
+    half: SmallDHalf<'_>,
+    phases: &EulerPhases,
     v: &PshVector,
     out: &mut PshVector,
+    scratch: &mut Scratch,
 ) {
+    let l = half.degree();
     let n = 2 * l + 1;
     let comps = v.codomain().components();
     let np = comps.len();
     let per_channel = crate::sh::num_coeffs(v.lmax()) * np;
-    let at = |c: usize, m: usize, k: usize| c * per_channel + (l * l + m) * np + k;
-    let src = v.data();
-    let scalar: Vec<(usize, usize)> = (0..v.channels())
-        .flat_map(|c| {
-            let ks = comps.iter().enumerate().filter(|(_, &p)| p == 0 || p == 3);
-            ks.map(move |(k, _)| (c, k))
-        })
+    // Coefficient (channel c, order m, component k).
+    let at =
+        |c: usize, m: i64, k: usize| c * per_channel + (l * l + (m + l as i64) as usize) * np + k;
+    let scalar: Vec<usize> = (0..np)
+        .filter(|&k| comps[k] == 0 || comps[k] == 3)
         .collect();
-    let mut column = vec![0.0; n];
-    let mut results = vec![0.0; n * scalar.len()];
-    for (&(c, k), y) in scalar.iter().zip(results.chunks_exact_mut(n)) {
-        for (m, x) in column.iter_mut().enumerate() {
-            *x = src[at(c, m, k)];
+    let spin2 = comps.iter().position(|&p| p == 1);
+    let per = 2 * scalar.len() + if spin2.is_some() { 4 } else { 0 };
+    let cp = (v.channels() * per).div_ceil(4) * 4;
+    let Scratch { gains, x, z } = scratch;
+    gains.clear();
+    x.clear();
+    x.resize(n * cp, 0.0);
+    // Column j at order m' is x[(l - m') cp + j].
+    let xi = |m: i64, j: usize| (l as i64 - m) as usize * cp + j;
+    let src = v.data();
+    let mut j = 0;
+    for c in 0..v.channels() {
+        for &k in &scalar {
+            let g = gain((-(l as i64)..=l as i64).map(|m| src[at(c, m, k)]));
+            gains.push(g);
+            x[xi(0, j)] = SQRT_2 * (g * src[at(c, 0, k)]);
+            for (m, &(cs, sn)) in phases.gamma.iter().enumerate().take(l + 1).skip(1) {
+                let (mi, s) = (m as i64, parity(m));
+                let (fp, fm) = (g * src[at(c, mi, k)], g * src[at(c, -mi, k)]);
+                let (p, q) = (cs * fp - sn * fm, sn * fp + cs * fm);
+                x[xi(mi, j)] = p;
+                x[xi(-mi, j)] = s * p;
+                x[xi(mi, j + 1)] = q;
+                x[xi(-mi, j + 1)] = -s * q;
+            }
+            j += 2;
         }
-        for (row, y) in real.chunks_exact(n).zip(y.iter_mut()) {
-            *y = lane_dot(row, &column).reduce_add();
+        if let Some(k1) = spin2 {
+            let orders = -(l as i64)..=l as i64;
+            let g = gain(orders.flat_map(|m| [src[at(c, m, k1)], src[at(c, m, k1 + 1)]]));
+            gains.push(g);
+            for m in -(l as i64)..=l as i64 {
+                let (cs, sn) = phases.gamma[m.unsigned_abs() as usize];
+                let e = (cs, -(m.signum() as f64) * sn);
+                let (ar, ai) = (g * src[at(c, m, k1)], g * src[at(c, m, k1 + 1)]);
+                let (re, im) = (e.0 * ar - e.1 * ai, e.0 * ai + e.1 * ar);
+                let s = parity(m.unsigned_abs() as usize);
+                x[xi(m, j)] = re;
+                x[xi(m, j + 1)] = im;
+                x[xi(-m, j + 2)] = s * re;
+                x[xi(-m, j + 3)] = s * im;
+            }
+            j += 4;
         }
     }
-    // a = f_1 + i f_2 interleaved ([re, im] per m'), and swapped ([im, re]): the lane sums
-    // of a block row (interleaved) with them hold sum (Re B Re a, Im B Im a) and the
-    // imaginary part.
-    let spin2 = complex.zip(comps.iter().position(|&p| p == 1));
-    let mut complex_results = Vec::new();
-    if let Some((block, k1)) = spin2 {
-        let flat: &[f64] = interleaved(block);
-        let (mut a, mut swapped) = (vec![0.0; 2 * n], vec![0.0; 2 * n]);
-        for c in 0..v.channels() {
-            for m in 0..n {
-                let (re, im) = (src[at(c, m, k1)], src[at(c, m, k1 + 1)]);
-                a[2 * m..2 * m + 2].copy_from_slice(&[re, im]);
-                swapped[2 * m..2 * m + 2].copy_from_slice(&[im, re]);
-            }
-            for row in flat.chunks_exact(2 * n) {
-                let s = lane_dot(row, &a).to_array();
-                let re = (s[0] + s[2]) - (s[1] + s[3]);
-                let im = lane_dot(row, &swapped).reduce_add();
-                complex_results.push((re, im));
-            }
-        }
-    }
+    z.clear();
+    z.resize((l + 1) * cp, 0.0);
+    products(half, x, cp, z);
     let dst = out.data_mut();
-    for (&(c, k), y) in scalar.iter().zip(results.chunks_exact(n)) {
-        for (m, &y) in y.iter().enumerate() {
-            dst[at(c, m, k)] = y;
+    let (mut j, mut gains) = (0, gains.iter().map(|g| 1.0 / g));
+    for c in 0..v.channels() {
+        for &k in &scalar {
+            let g = gains.next().unwrap_or(1.0);
+            dst[at(c, 0, k)] = g * (z[j] / SQRT_2);
+            for (m, &(cs, sn)) in phases.alpha.iter().enumerate().take(l + 1).skip(1) {
+                let (yp, ym) = (z[m * cp + j], z[m * cp + j + 1]);
+                dst[at(c, m as i64, k)] = g * (cs * yp - sn * ym);
+                dst[at(c, -(m as i64), k)] = g * (sn * yp + cs * ym);
+            }
+            j += 2;
         }
-    }
-    if let Some((_, k1)) = spin2 {
-        for (i, &(re, im)) in complex_results.iter().enumerate() {
-            let (c, m) = (i / n, i % n);
-            dst[at(c, m, k1)] = re;
-            dst[at(c, m, k1 + 1)] = im;
+        if let Some(k1) = spin2 {
+            let g = gains.next().unwrap_or(1.0);
+            for (m, &(cs, sn)) in phases.alpha.iter().enumerate().take(l + 1) {
+                let zm = &z[m * cp + j..m * cp + j + 4];
+                // e^{-i m alpha} z_m and e^{i m alpha} z_{-m}, z_{-m} = (-1)^m (zm[2], zm[3]).
+                dst[at(c, m as i64, k1)] = g * (cs * zm[0] + sn * zm[1]);
+                dst[at(c, m as i64, k1 + 1)] = g * (cs * zm[1] - sn * zm[0]);
+                if m > 0 {
+                    let s = parity(m);
+                    let (re, im) = (s * zm[2], s * zm[3]);
+                    dst[at(c, -(m as i64), k1)] = g * (cs * re - sn * im);
+                    dst[at(c, -(m as i64), k1 + 1)] = g * (cs * im + sn * re);
+                }
+            }
+            j += 4;
         }
     }
 }
 
-/// `[re, im, re, im, ...]` of complex numbers (`Complex64` is `repr(C)`, two `f64`).
-fn interleaved(z: &[Complex64]) -> &[f64] {
-    // SAFETY: Complex64 is #[repr(C)] { re: f64, im: f64 }: 2 z.len() f64 in place.
-    unsafe { std::slice::from_raw_parts(z.as_ptr().cast::<f64>(), 2 * z.len()) }
+/// `z[m cp + j] = sum_b row_m[b] x[b cp + j]` for the rows `m = 0..=l` of `half` and the
+/// `cp` columns of `x` (a multiple of 4): column blocks of up to six SIMD vectors, rows
+/// in pairs, each row entry read once per block.
+fn products(half: SmallDHalf<'_>, x: &[f64], cp: usize, z: &mut [f64]) {
+    let mut j = 0;
+    while j < cp {
+        let v = ((cp - j) / 4).min(6);
+        match v {
+            1 => product_block::<1>(half, x, cp, j, z),
+            2 => product_block::<2>(half, x, cp, j, z),
+            3 => product_block::<3>(half, x, cp, j, z),
+            4 => product_block::<4>(half, x, cp, j, z),
+            5 => product_block::<5>(half, x, cp, j, z),
+            _ => product_block::<6>(half, x, cp, j, z),
+        }
+        j += 4 * v;
+    }
 }
 
-/// Lane sums of `a[j] b[j]`: lane `q` sums the `j = q mod 4` (the tail past the last full
-/// vector goes to lanes `0, 1, ...`, keeping that rule), in a fixed order.
-#[inline]
-fn lane_dot(a: &[f64], b: &[f64]) -> f64x4 {
-    let mut acc = [f64x4::ZERO; 2];
-    let (ac, bc) = (a.chunks_exact(8), b.chunks_exact(8));
-    let (at, bt) = (ac.remainder(), bc.remainder());
-    for (x, y) in ac.zip(bc) {
-        for h in 0..2 {
-            let x = f64x4::new([x[4 * h], x[4 * h + 1], x[4 * h + 2], x[4 * h + 3]]);
-            let y = f64x4::new([y[4 * h], y[4 * h + 1], y[4 * h + 2], y[4 * h + 3]]);
-            acc[h] = x.mul_add(y, acc[h]);
+/// The columns `j..j + 4V` of [`products`].
+#[inline(never)]
+fn product_block<const V: usize>(
+    half: SmallDHalf<'_>,
+    x: &[f64],
+    cp: usize,
+    j: usize,
+    z: &mut [f64],
+) {
+    let l = half.degree();
+    let n = 2 * l + 1;
+    for m in (0..=l).step_by(2) {
+        let (r0, r1) = (half.row(m), half.row((m + 1).min(l)));
+        let mut acc = [[f64x4::ZERO; V]; 2];
+        for ((&d0, &d1), xb) in r0.iter().zip(r1).zip(x.chunks_exact(cp)).take(n) {
+            let (d0, d1) = (f64x4::splat(d0), f64x4::splat(d1));
+            let xb = &xb[j..j + 4 * V];
+            for v in 0..V {
+                let xv = f64x4::new([xb[4 * v], xb[4 * v + 1], xb[4 * v + 2], xb[4 * v + 3]]);
+                acc[0][v] = d0.mul_add(xv, acc[0][v]);
+                acc[1][v] = d1.mul_add(xv, acc[1][v]);
+            }
+        }
+        for (r, acc) in [m, m + 1].into_iter().zip(acc) {
+            if r <= l {
+                for (v, a) in acc.iter().enumerate() {
+                    let o = r * cp + j + 4 * v;
+                    z[o..o + 4].copy_from_slice(&a.to_array());
+                }
+            }
         }
     }
-    let mut tail = [0.0; 4];
-    for (j, (x, y)) in at.iter().zip(bt).enumerate() {
-        tail[j % 4] += x * y;
-    }
-    acc[0] + acc[1] + f64x4::new(tail)
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::Codomain;
     use super::*;
     use crate::geometry::rotation_from_rotvec;
+    use crate::sh::{RealWignerD, WignerD};
     use crate::testing::random_psh;
+    use num_complex::Complex64;
+    use std::f64::consts::PI;
 
     #[test]
     fn streamed_equals_stored_to_the_bit() {
@@ -217,22 +322,67 @@ mod tests {
             Codomain::Full,
         ] {
             let v = random_psh(12, codomain, 3, 5).unwrap();
-            let stored = PshRotation::for_codomain(&r, 12, codomain)
-                .unwrap()
-                .rotate(&v)
-                .unwrap();
+            let stored = PshRotation::new(&r, 12).unwrap().rotate(&v).unwrap();
             assert_eq!(v.rotated(&r).unwrap().data(), stored.data(), "{codomain:?}");
+        }
+    }
+
+    /// The Euler factors applied from the halves of `d` equal the whole blocks of
+    /// PSH (35)-(37) ([`RealWignerD`] on spin 0, [`WignerD`] on `a = f_1 + i f_2`), at the
+    /// identity, a half turn (`beta = pi`, the seam of the Euler angles), and generic
+    /// rotations, to l = 40.
+    #[test]
+    fn euler_factors_equal_the_whole_blocks() {
+        let lmax = 40;
+        for rotvec in [
+            [1e-9, 0.0, 0.0],
+            [0.3, -1.1, 0.7],
+            [PI, 0.0, 0.0],
+            [0.0, 0.0, 2.5],
+            [-2.0, 0.4, 1.9],
+        ] {
+            let r = rotation_from_rotvec(rotvec).unwrap();
+            let v = random_psh(lmax, Codomain::Full, 2, 7).unwrap();
+            let got = v.rotated(&r).unwrap();
+            let real = RealWignerD::new(&r, lmax).unwrap();
+            let complex = WignerD::new(&r, lmax).unwrap();
+            let scale = v.data().iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            // Channel c, component p, at every (l, m) in the order of lm_index.
+            let coeffs = |w: &PshVector, c: usize, p: usize| -> Vec<f64> {
+                (0..=lmax)
+                    .flat_map(|l| (-(l as i64)..=l as i64).map(move |m| (l, m)))
+                    .map(|(l, m)| w.get(c, l, m, p).unwrap())
+                    .collect()
+            };
+            for c in 0..2 {
+                for p in [0, 3] {
+                    let want = real.rotate(&coeffs(&v, c, p)).unwrap();
+                    for (g, w) in coeffs(&got, c, p).iter().zip(&want) {
+                        assert!((g - w).abs() < 1e-13 * scale, "{rotvec:?} c {c} p {p}");
+                    }
+                }
+                let pair = |w: &PshVector| -> Vec<Complex64> {
+                    let (re, im) = (coeffs(w, c, 1), coeffs(w, c, 2));
+                    re.iter()
+                        .zip(&im)
+                        .map(|(&a, &b)| Complex64::new(a, b))
+                        .collect()
+                };
+                let want = complex.rotate(&pair(&v)).unwrap();
+                for (g, w) in pair(&got).iter().zip(&want) {
+                    assert!((g - w).norm() < 1e-13 * scale, "{rotvec:?} c {c} spin 2");
+                }
+            }
         }
     }
 
     #[test]
     fn stored_blocks_are_checked_against_the_budget() {
         let r = rotation_from_rotvec([0.0, 0.0, 1.0]).unwrap();
-        // sum (2l+1)^2 ~ 1.7e11 entries of 24 bytes: refused before allocating.
-        let e = PshRotation::new(&r, 5000).unwrap_err();
+        // sum (l+1)(2l+1) ~ 8e11 entries of 8 bytes: refused before allocating.
+        let e = PshRotation::new(&r, 10_000).unwrap_err();
         assert!(matches!(e, Error::MemoryBudget { .. }), "{e}");
         let v = random_psh(4, Codomain::Full, 1, 1).unwrap();
-        let scalar_only = PshRotation::for_codomain(&r, 4, Codomain::Intensity).unwrap();
-        assert!(scalar_only.rotate(&v).is_err());
+        assert!(PshRotation::new(&r, 5).unwrap().rotate(&v).is_err());
     }
 }

@@ -16,7 +16,7 @@ use super::settings::{Planning, TransferSettings, Visibility};
 use crate::error::{Error, Result};
 use crate::geometry::fibonacci_directions;
 use crate::geometry::frame::Frame;
-use crate::polarized::{PshRotation, PshVector, TripleTable};
+use crate::polarized::{PshVector, TripleTable};
 use crate::progress::{Progress, Silent};
 use crate::sh::harmonics::ShEvaluator;
 use crate::sh::num_coeffs;
@@ -148,15 +148,15 @@ pub fn precompute_planned(
                 .zip(o.mesh.normals())
                 .map(|(p, n)| {
                     let rotation = Frame::from_z(*n)?.rotation();
-                    let to_local = PshRotation::for_codomain(&rotation.inverse(), l, codomain)?;
+                    let to_local = rotation.inverse();
                     let (visibility, local) = match (&table, &plan.horizon) {
                         (Some(t), _) => {
                             let v = ray_visibility(scene, *p, *n, &rays)?;
-                            let local = to_local.rotate(&t.shadow(&v, &env)?)?;
+                            let local = t.shadow(&v, &env)?.rotated(&to_local)?;
                             (Some(v), local)
                         }
-                        (None, Some(h)) => (None, h.apply(&to_local.rotate(&env)?)?),
-                        (None, None) => (None, to_local.rotate(&env)?),
+                        (None, Some(h)) => (None, h.apply(&env.rotated(&to_local)?)?),
+                        (None, None) => (None, env.rotated(&to_local)?),
                     };
                     let parts = ops
                         .iter()

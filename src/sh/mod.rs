@@ -39,8 +39,8 @@ pub use solid::{
 };
 pub use transform::ShTransform;
 pub use wigner::{
-    for_each_block, real_block, rotate_z_complex, rotate_z_real, small_d_block, small_d_column,
-    RealWignerD, SmallDRecursion, WignerD,
+    for_each_block, for_each_small_d, real_block, rotate_z_complex, rotate_z_real, small_d_block,
+    small_d_column, RealWignerD, SmallDHalf, SmallDRecursion, WignerD,
 };
 pub use wigner3j::{wigner_3j, wigner_3j_row, wigner_3j_row_into, Wigner3jRow, MAX_GAUNT_DEGREE};
 pub use window::Window;

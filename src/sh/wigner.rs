@@ -302,44 +302,100 @@ pub fn small_d_block(l: usize, beta: f64) -> Result<Vec<f64>> {
     Ok(out)
 }
 
-/// `sum_{l <= lmax} (2l+1)^2` entries of `entry_bytes` each, checked against the budget.
-pub(crate) fn check_block_memory(lmax: usize, entry_bytes: usize) -> Result<usize> {
-    let entries = (0..=lmax).try_fold(0usize, |n, l| {
-        n.checked_add((2 * l + 1).checked_mul(2 * l + 1)?)
+/// `sum_{l <= lmax} (2l+1)^2` entries (the whole blocks) or `sum (l+1)(2l+1)` (their
+/// halves, [`SmallDHalf`]) of `entry_bytes` each, checked against the budget.
+pub(crate) fn check_block_memory(lmax: usize, half: bool, entry_bytes: usize) -> Result<usize> {
+    let entries = (0..=lmax).try_fold(0usize, |total, l| {
+        let rows = if half { l + 1 } else { 2 * l + 1 };
+        total.checked_add(rows.checked_mul(2 * l + 1)?)
     });
     crate::budget::check(
-        "the stored Wigner blocks of a rotation (stream them with for_each_block)",
+        "the stored Wigner blocks of a rotation (stream them one degree at a time)",
         &[entries.unwrap_or(usize::MAX), 1],
         entry_bytes,
     )
 }
 
-/// Degrees from which [`for_each_block`] overlaps the next recursion step with the
+/// Degrees from which [`for_each_small_d`] overlaps the next recursion step with the
 /// current block (below, a degree is too little work to share between threads).
 const PIPELINE_DEGREE: usize = 128;
 
-/// Streams the complex blocks `D^l(R)`, `l = 0..=lmax` (PSH (9)), calling `f(l, block)`
-/// with the block row-major, rows `m = -l..=l`, columns `m' = -l..=l`, in order of `l`.
-/// Memory `O(lmax^2)`.
-///
-/// With more than one thread, the recursion step to degree `l + 1` runs while block `l`
-/// is written and passed to `f`; the blocks are the same to the bit.
-pub fn for_each_block(
-    r: &Rotation3<f64>,
+/// The rows `m = 0..=l` of `d^l(beta)`, each in the order `m' = l, l-1, ..., -l`: the
+/// half of the block from which the rest follows by
+/// `d_{-m,-m'} = (-1)^{m-m'} d_{m m'}` (PSH (9); `proofs/wigner-recursion.md`).
+#[derive(Clone, Copy, Debug)]
+pub struct SmallDHalf<'a> {
+    l: usize,
+    /// Row `m` starts at `(l - m) stride`.
+    data: &'a [f64],
+    stride: usize,
+}
+
+impl<'a> SmallDHalf<'a> {
+    /// The half stored contiguously: `(l + 1) (2l + 1)` entries, rows `m = l, l-1, ..., 0`
+    /// (the layout of [`Self::to_vec`]). Error: a length that is not that.
+    pub fn from_rows(l: usize, data: &'a [f64]) -> Result<Self> {
+        check_len("small-d half block", (l + 1) * (2 * l + 1), data.len())?;
+        Ok(Self {
+            l,
+            data,
+            stride: 2 * l + 1,
+        })
+    }
+
+    /// The degree `l`.
+    pub fn degree(&self) -> usize {
+        self.l
+    }
+
+    /// Row `m` (`0 <= m <= l`): `d^l_{m m'}` for `m' = l, l-1, ..., -l`.
+    pub fn row(&self, m: usize) -> &'a [f64] {
+        let start = (self.l - m) * self.stride;
+        &self.data[start..start + 2 * self.l + 1]
+    }
+
+    /// The rows `m = l, l-1, ..., 0` one after another.
+    pub fn to_vec(&self) -> Vec<f64> {
+        (0..=self.l)
+            .rev()
+            .flat_map(|m| self.row(m))
+            .copied()
+            .collect()
+    }
+}
+
+impl Level<'_> {
+    /// The rows `m >= 0` of this level's block (the stored rows `a = l - m <= l`).
+    fn half(&self) -> SmallDHalf<'_> {
+        let s = self.stride;
+        SmallDHalf {
+            l: self.level / 2,
+            data: &self.data[s + 1..],
+            stride: s,
+        }
+    }
+}
+
+/// Streams the halves of `d^l(beta)`, `l = 0..=lmax`, calling `f(half)` in order of `l`
+/// (memory `O(lmax^2)`). With more than one thread, the recursion step to degree `l + 1`
+/// runs while `f` reads degree `l`; the values are the same to the bit.
+pub fn for_each_small_d(
+    beta: f64,
     lmax: usize,
-    mut f: impl FnMut(usize, &[Complex64]) + Send,
+    mut f: impl FnMut(SmallDHalf<'_>) + Send,
 ) -> Result<()> {
-    let (alpha, beta, gamma) = euler_zyz(r);
+    for_each_level(beta, lmax, |level| f(level.half()))
+}
+
+/// Streams the levels `J = 2l` of Risbo's recursion, `l = 0..=lmax`, to `f`, the next
+/// step overlapped with `f` from [`PIPELINE_DEGREE`].
+fn for_each_level(beta: f64, lmax: usize, mut f: impl FnMut(&Level<'_>) + Send) -> Result<()> {
     let mut rec = SmallDRecursion::new(beta, lmax)?;
-    let mut block = Vec::with_capacity((2 * lmax + 1) * (2 * lmax + 1));
-    let (ea, eg) = (phases(lmax, alpha), phases(lmax, gamma));
-    let mut gs = Vec::with_capacity(2 * lmax + 1);
     rec.advance();
     // On a worker thread, so that each join below hands its second half to the other
     // worker instead of going through the pool's queue.
     rayon::scope(|_| loop {
         let l = rec.level / 2;
-        let band = lmax - l..=lmax + l;
         let SmallDRecursion {
             steps,
             cur,
@@ -354,24 +410,43 @@ pub fn for_each_block(
             level: *level,
             stride: steps.stride,
         };
-        let mut emit = || {
-            current.complex_block(&ea[band.clone()], &eg[band.clone()], &mut gs, &mut block);
-            f(l, &block);
-        };
         if l == lmax {
-            emit();
+            f(&current);
             return;
         }
         let mut step = || steps.degree_step(cur, mid, next, *level);
         if l >= PIPELINE_DEGREE {
-            rayon::join(emit, step);
+            rayon::join(|| f(&current), step);
         } else {
-            emit();
+            f(&current);
             step();
         }
         rec.finish_step();
     });
     Ok(())
+}
+
+/// Streams the complex blocks `D^l(R)`, `l = 0..=lmax` (PSH (9)), calling `f(l, block)`
+/// with the block row-major, rows `m = -l..=l`, columns `m' = -l..=l`, in order of `l`.
+/// Memory `O(lmax^2)`.
+///
+/// With more than one thread, the recursion step to degree `l + 1` runs while block `l`
+/// is written and passed to `f`; the blocks are the same to the bit.
+pub fn for_each_block(
+    r: &Rotation3<f64>,
+    lmax: usize,
+    mut f: impl FnMut(usize, &[Complex64]) + Send,
+) -> Result<()> {
+    let (alpha, beta, gamma) = euler_zyz(r);
+    let mut block = Vec::with_capacity((2 * lmax + 1) * (2 * lmax + 1));
+    let (ea, eg) = (phases(lmax, alpha), phases(lmax, gamma));
+    let mut gs = Vec::with_capacity(2 * lmax + 1);
+    for_each_level(beta, lmax, |current| {
+        let l = current.level / 2;
+        let band = lmax - l..=lmax + l;
+        current.complex_block(&ea[band.clone()], &eg[band], &mut gs, &mut block);
+        f(l, &block);
+    })
 }
 
 /// `e^{-i m angle}` for `m = -l..=l`.
@@ -443,7 +518,7 @@ impl WignerD {
     /// Blocks of the rotation `r` up to degree `lmax`. Error: their memory over the budget
     /// ([`crate::budget`]; stream with [`for_each_block`]).
     pub fn new(r: &Rotation3<f64>, lmax: usize) -> Result<Self> {
-        check_block_memory(lmax, 16)?;
+        check_block_memory(lmax, false, 16)?;
         let mut blocks = Vec::with_capacity(lmax + 1);
         for_each_block(r, lmax, |_, b| blocks.push(b.to_vec()))?;
         Ok(Self { blocks })
@@ -477,7 +552,7 @@ impl RealWignerD {
     /// Blocks of the rotation `r` up to degree `lmax`. Error: their memory over the budget
     /// ([`crate::budget`]).
     pub fn new(r: &Rotation3<f64>, lmax: usize) -> Result<Self> {
-        check_block_memory(lmax, 8)?;
+        check_block_memory(lmax, false, 8)?;
         let mut blocks = Vec::with_capacity(lmax + 1);
         let mut out = Vec::new();
         for_each_block(r, lmax, |l, b| {

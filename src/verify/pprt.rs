@@ -73,7 +73,7 @@ fn mirrored_output() -> Result<f64> {
     let scale = pf.data().iter().fold(0.0f64, |a, x| a.max(x.abs()));
     for gamma in [0.4, 1.9, -2.7] {
         let r = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), gamma);
-        let rot = PshRotation::for_codomain(&r, lmax, Codomain::Full)?;
+        let rot = PshRotation::new(&r, lmax)?;
         let a = m[0].apply(&rot.rotate(&f)?)?;
         let b = rot.rotate(&pf)?;
         for (x, y) in a.data().iter().zip(b.data()) {
