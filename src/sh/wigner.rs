@@ -233,16 +233,36 @@ impl HalfSteps {
             fwd[b] = sq[b];
         }
         let h = (big_j / 2 + 1).min(big_j);
-        for a in 0..=h {
-            // Row constants of the recursion: sqrt(J-a)/J {p, q}, sqrt(a)/J {q, p}.
+        let n = big_j + 1;
+        let (rev, fwd) = (&rev[..n], &fwd[..n]);
+        // Row constants of the recursion: sqrt(J-a)/J {p, q}, sqrt(a)/J {q, p}.
+        let consts = |a: usize| {
             let (ca, cb) = (sq[big_j - a] * inv, sq[a] * inv);
-            let (ap, aq, bq, bp) = (ca * self.p, ca * self.q, cb * self.q, cb * self.p);
-            // Equal-length slices over b = 0..=J: the loop runs in SIMD lanes.
-            let n = big_j + 1;
-            let x = &src[(a + 1) * s..(a + 1) * s + n + 1];
-            let y = &src[a * s..a * s + n + 1];
-            let (x0, x1, y0, y1) = (&x[..n], &x[1..], &y[..n], &y[1..]);
-            let (rev, fwd) = (&rev[..n], &fwd[..n]);
+            [ca * self.p, ca * self.q, cb * self.q, cb * self.p]
+        };
+        // Source row `a` (level J - 1) at columns b and b - 1, as equal-length slices
+        // over b = 0..=J: the loops below run in SIMD lanes.
+        let src_row = |a: usize| {
+            let x = &src[a * s..a * s + n + 1];
+            (&x[1..], &x[..n])
+        };
+        // Rows a and a + 1 in one pass, sharing the loads of source row a.
+        let mut a = 0;
+        while a < h {
+            let ([ap, aq, bq, bp], [ap1, aq1, bq1, bp1]) = (consts(a), consts(a + 1));
+            let ((y1, y0), (x1, x0), (z1, z0)) = (src_row(a), src_row(a + 1), src_row(a + 2));
+            let (upper, lower) = dst[(a + 1) * s..(a + 3) * s].split_at_mut(s);
+            let (row, row1) = (&mut upper[1..1 + n], &mut lower[1..1 + n]);
+            for b in 0..n {
+                row[b] = rev[b] * (ap * x1[b] + bq * y1[b]) + fwd[b] * (bp * y0[b] - aq * x0[b]);
+                row1[b] =
+                    rev[b] * (ap1 * z1[b] + bq1 * x1[b]) + fwd[b] * (bp1 * x0[b] - aq1 * z0[b]);
+            }
+            a += 2;
+        }
+        if a == h {
+            let [ap, aq, bq, bp] = consts(a);
+            let ((y1, y0), (x1, x0)) = (src_row(a), src_row(a + 1));
             let row = &mut dst[(a + 1) * s + 1..(a + 1) * s + 1 + n];
             for b in 0..n {
                 row[b] = rev[b] * (ap * x1[b] + bq * y1[b]) + fwd[b] * (bp * y0[b] - aq * x0[b]);
