@@ -249,23 +249,22 @@ impl HalfSteps {
         // Rows a and a + 1 in one pass, sharing the loads of source row a.
         let mut a = 0;
         while a < h {
-            let ([ap, aq, bq, bp], [ap1, aq1, bq1, bp1]) = (consts(a), consts(a + 1));
+            let (c0, c1) = (consts(a), consts(a + 1));
             let ((y1, y0), (x1, x0), (z1, z0)) = (src_row(a), src_row(a + 1), src_row(a + 2));
             let (upper, lower) = dst[(a + 1) * s..(a + 3) * s].split_at_mut(s);
             let (row, row1) = (&mut upper[1..1 + n], &mut lower[1..1 + n]);
             for b in 0..n {
-                row[b] = rev[b] * (ap * x1[b] + bq * y1[b]) + fwd[b] * (bp * y0[b] - aq * x0[b]);
-                row1[b] =
-                    rev[b] * (ap1 * z1[b] + bq1 * x1[b]) + fwd[b] * (bp1 * x0[b] - aq1 * z0[b]);
+                row[b] = risbo(c0, rev[b], fwd[b], x1[b], x0[b], y1[b], y0[b]);
+                row1[b] = risbo(c1, rev[b], fwd[b], z1[b], z0[b], x1[b], x0[b]);
             }
             a += 2;
         }
         if a == h {
-            let [ap, aq, bq, bp] = consts(a);
+            let c = consts(a);
             let ((y1, y0), (x1, x0)) = (src_row(a), src_row(a + 1));
             let row = &mut dst[(a + 1) * s + 1..(a + 1) * s + 1 + n];
             for b in 0..n {
-                row[b] = rev[b] * (ap * x1[b] + bq * y1[b]) + fwd[b] * (bp * y0[b] - aq * x0[b]);
+                row[b] = risbo(c, rev[b], fwd[b], x1[b], x0[b], y1[b], y0[b]);
             }
         }
         let a = h + 1;
@@ -276,6 +275,16 @@ impl HalfSteps {
             }
         }
     }
+}
+
+/// Risbo's recursion for one entry `d[a][b]` of level `J` from `x = d'[a]` and
+/// `y = d'[a-1]` at columns `b` (`x1`, `y1`) and `b - 1` (`x0`, `y0`), with the row
+/// constants `c = [sqrt(J-a) p, sqrt(J-a) q, sqrt(a) q, sqrt(a) p] / J`,
+/// `rev = sqrt(J-b)` and `fwd = sqrt(b)` (`proofs/wigner-recursion.md` §2).
+#[inline(always)]
+fn risbo(c: [f64; 4], rev: f64, fwd: f64, x1: f64, x0: f64, y1: f64, y0: f64) -> f64 {
+    let [ap, aq, bq, bp] = c;
+    rev * (ap * x1 + bq * y1) + fwd * (bp * y0 - aq * x0)
 }
 
 /// `d^l_{m m'}(beta)` for one pair `(m, m')` and all `l <= lmax` (zero below
