@@ -15,9 +15,12 @@ use crate::sh::column_recursion::Columns;
 use crate::sh::order_sums::order_sums;
 use crate::sh::pixel::{real_sums, Texels};
 use crate::sh::{lm_index, num_coeffs};
-use crate::stokes::StokesComponents;
 use num_complex::Complex64;
+use rayon::prelude::*;
 use std::sync::Mutex;
+
+/// Texels per parallel task of the weighting (the values times the solid angles).
+const TEXEL_CHUNK: usize = 1024;
 
 /// PSH coefficients of `l <= lmax` of Stokes images (one slice of texels per
 /// channel, row-major over `grid`, components `[s0, s1, s2, s3]` in `frames`), for the
@@ -54,39 +57,54 @@ pub fn project_image(
         .collect();
     // Spin 2: z = s1 + i s2 in the theta-phi frame (nothing below l = 2, PSH (31)).
     let spin2 = lmax >= 2 && codomain.has_spin2();
-    let mut v = Vec::with_capacity(texels.index.len() * nch * spin0.len());
-    let mut z = Vec::with_capacity(if spin2 { texels.index.len() * nch } else { 0 });
-    for ((&i, &omega), site) in texels.index.iter().zip(&texels.omega).zip(&texels.sites) {
-        let w = grid.direction(i);
-        let rot = if spin2 {
-            // e_theta = (cos theta cos phi, cos theta sin phi, -sin theta).
-            let (cis, rho) = (site.cis(), w[0].hypot(w[1]));
-            to_theta_phi(&frames.frame(w)?, [w[2] * cis.re, w[2] * cis.im, -rho])
-        } else {
-            Complex64::default()
-        };
-        let stokes = channels
-            .iter()
-            .enumerate()
-            .map(|(c, ch)| {
-                StokesComponents::new(ch[i]).map_err(|_| Error::InvalidArgument {
-                    name: "Stokes texel",
-                    value: format!("channel {c}, texel {i}: {:?}", ch[i]),
-                    reason: "components must be finite".into(),
-                })
-            })
-            .collect::<Result<Vec<_>>>()?;
-        for &(_, p) in &spin0 {
-            v.extend(channels.iter().map(|ch| ch[i][p] * omega));
-        }
-        if spin2 {
-            z.extend(
-                stokes
-                    .iter()
-                    .map(|s| rot * Complex64::new(s.s1(), s.s2()) * omega),
-            );
-        }
+    let n = texels.index.len();
+    let mut v = vec![Complex64::default(); n * nch * spin0.len()];
+    let mut z = vec![Complex64::default(); if spin2 { n * nch } else { 0 }];
+    // Texels in chunks, in parallel; the first error in texel order is returned.
+    let (v_rows, z_rows) = (nch * spin0.len(), if spin2 { nch } else { 0 });
+    let mut chunks = Vec::with_capacity(n.div_ceil(TEXEL_CHUNK));
+    let (mut v_rest, mut z_rest) = (v.as_mut_slice(), z.as_mut_slice());
+    for start in (0..n).step_by(TEXEL_CHUNK) {
+        let k = TEXEL_CHUNK.min(n - start);
+        let (vc, vr) = std::mem::take(&mut v_rest).split_at_mut(k * v_rows);
+        let (zc, zr) = std::mem::take(&mut z_rest).split_at_mut(k * z_rows);
+        (v_rest, z_rest) = (vr, zr);
+        chunks.push((start..start + k, vc, zc));
     }
+    let weigh = |(range, vc, zc): (std::ops::Range<usize>, &mut [Complex64], &mut [Complex64])| {
+        for (t, k) in range.enumerate() {
+            let (i, omega) = (texels.index[k], texels.omega[k]);
+            for (c, ch) in channels.iter().enumerate() {
+                if ch[i].iter().any(|x| !x.is_finite()) {
+                    return Err(Error::InvalidArgument {
+                        name: "Stokes texel",
+                        value: format!("channel {c}, texel {i}: {:?}", ch[i]),
+                        reason: "components must be finite".into(),
+                    });
+                }
+            }
+            let vt = &mut vc[t * v_rows..(t + 1) * v_rows];
+            for (row, (c, &(_, p))) in vt.iter_mut().zip(
+                spin0
+                    .iter()
+                    .flat_map(|p| channels.iter().map(move |ch| (ch, p))),
+            ) {
+                *row = Complex64::new(c[i][p] * omega, 0.0);
+            }
+            if spin2 {
+                // e_theta = (cos theta cos phi, cos theta sin phi, -sin theta).
+                let w = grid.direction(i);
+                let (cis, rho) = (texels.sites[k].cis(), w[0].hypot(w[1]));
+                let rot = to_theta_phi(&frames.frame(w)?, [w[2] * cis.re, w[2] * cis.im, -rho]);
+                for (row, ch) in zc[t * nch..(t + 1) * nch].iter_mut().zip(channels) {
+                    *row = rot * Complex64::new(ch[i][1], ch[i][2]) * omega;
+                }
+            }
+        }
+        Ok(())
+    };
+    let results: Vec<Result<()>> = chunks.into_par_iter().map(weigh).collect();
+    results.into_iter().collect::<Result<()>>()?;
     if !spin0.is_empty() {
         real_sums(
             lmax,
@@ -141,6 +159,7 @@ mod tests {
     use super::*;
     use crate::geometry::frame::CubeMapFrameField;
     use crate::geometry::image_grid::CubeCross;
+    use crate::stokes::StokesComponents;
 
     /// The order-major sums against the texel-major quadrature PSH (32) written out with
     /// the spin-weighted SH of [`crate::swsh::swsh`] (from the Wigner d, not the column
@@ -250,5 +269,27 @@ mod tests {
             errs.push(err);
         }
         assert!(errs[0] < 2e-2 && errs[1] < errs[0] / 3.0, "{errs:?}");
+    }
+
+    /// Of several non-finite texels in different parallel chunks, the error names the
+    /// first in texel order, whatever chunk finishes first.
+    #[test]
+    fn the_first_bad_texel_is_named() {
+        let g = CubeCross::new(24).unwrap();
+        let valid: Vec<usize> = (0..g.len()).filter(|&i| g.solid_angle(i) > 0.0).collect();
+        assert!(valid.len() > 3 * TEXEL_CHUNK);
+        let (early, late) = (valid[100], valid[3 * TEXEL_CHUNK]);
+        let mut imgs = vec![vec![[1.0, 0.1, 0.1, 0.0]; g.len()]; 2];
+        imgs[0][late][2] = f64::NAN;
+        imgs[1][early][0] = f64::INFINITY;
+        let refs: Vec<&[[f64; 4]]> = imgs.iter().map(|v| v.as_slice()).collect();
+        for _ in 0..4 {
+            let e = project_image(&g, &CubeMapFrameField, &refs, Codomain::Full, 3).unwrap_err();
+            assert!(
+                e.to_string()
+                    .contains(&format!("channel 1, texel {early}:")),
+                "{e}"
+            );
+        }
     }
 }

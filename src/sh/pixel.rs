@@ -41,7 +41,7 @@ impl Texels {
 }
 
 /// Real SH coefficients (PSH (12)) of real images: `v[i * rows + r]` is image `r` at
-/// `sites[i]` (weights folded in); `put(r, lm, f_lm)` for each coefficient of `l <= lmax`
+/// `sites[i]` (weights folded in; real values, as complex numbers); `put(r, lm, f_lm)` for each coefficient of `l <= lmax`
 /// (flat index `lm`), `put` locked once per order. From the sums
 /// `a_lm = sum_i conj(Y_lm(w_i)) v_i` of the orders `m >= 0` ([`order_sums`]) and
 /// `Y^R_lm = sqrt(2) Re Y_lm`, `Y_l0`, `sqrt(2) Im Y_{l|m|}` (`m > 0`, `0`, `< 0`;
@@ -50,15 +50,14 @@ impl Texels {
 pub(crate) fn real_sums(
     lmax: usize,
     sites: &[Site],
-    v: &[f64],
+    v: &[Complex64],
     put: &Mutex<impl FnMut(usize, usize, f64) + Send>,
 ) {
     let rows = v.len() / sites.len().max(1);
-    let z: Vec<Complex64> = v.iter().map(|&x| Complex64::new(x, 0.0)).collect();
     order_sums(
         &Columns::new(0, lmax),
         sites,
-        &z,
+        v,
         |m| m >= 0,
         |m, l0, a| {
             let mut put = put.lock().unwrap_or_else(|e| e.into_inner());
@@ -104,13 +103,13 @@ pub fn project_real_channels(
     // ranges of orders in flight (less than the coefficients again).
     crate::budget::check(
         "the work space of an SH projection",
-        &[2 * num_coeffs(lmax) + 3 * texels.index.len(), nch],
+        &[2 * num_coeffs(lmax) + 2 * texels.index.len(), nch],
         8,
     )?;
     let mut v = Vec::with_capacity(texels.index.len() * nch);
     for (&i, &w) in texels.index.iter().zip(&texels.omega) {
         for c in channels {
-            v.push(finite("texel value", c[i])? * w);
+            v.push(Complex64::new(finite("texel value", c[i])? * w, 0.0));
         }
     }
     let mut out = vec![vec![0.0; num_coeffs(lmax)]; nch];
