@@ -32,13 +32,19 @@ pub struct StokesImage {
 impl StokesImage {
     /// The image of `camera` from per-pixel RGB Stokes components and the primary hits.
     pub fn from_pixels(camera: &Camera, pixels: &[[[f64; 4]; 3]], hits: &[Option<Hit>]) -> Self {
+        let channels = (0..3)
+            .map(|c| pixels.par_iter().map(|p| p[c]).collect())
+            .collect();
+        Self::from_channels(camera, channels, hits)
+    }
+
+    /// The image of `camera` from its channels `[c][pixel]` and the primary hits.
+    fn from_channels(camera: &Camera, channels: Vec<Vec<[f64; 4]>>, hits: &[Option<Hit>]) -> Self {
         StokesImage {
             width: camera.width,
             height: camera.height,
-            channels: (0..3)
-                .map(|c| pixels.iter().map(|p| p[c]).collect())
-                .collect(),
-            object: hits.iter().map(|h| h.map(|h| h.object)).collect(),
+            channels,
+            object: hits.par_iter().map(|h| h.map(|h| h.object)).collect(),
         }
     }
 
@@ -325,22 +331,24 @@ pub fn render_frame(
     check_len("primary hits", cam.width * cam.height, hits.len())?;
     check_len("direct light pixels", hits.len(), direct.len())?;
     let vertex_stokes = vertex_stokes_of(scene, transfer, high, &seen_vertices(scene, hits)?)?;
-    let pixels: Vec<[[f64; 4]; 3]> = hits
-        .par_iter()
-        .zip(direct)
-        .map(|(hit, d)| match hit {
-            Some(h) => {
-                let t = scene.objects()[h.object].mesh.triangles()[h.triangle];
-                let w = [1.0 - h.u - h.v, h.u, h.v];
-                let vs = &vertex_stokes[h.object];
-                std::array::from_fn(|c| {
-                    std::array::from_fn(|p| {
-                        d[c][p] + (0..3).map(|i| w[i] * vs[t[i] as usize][c][p]).sum::<f64>()
-                    })
+    // Channel by channel, in parallel over the pixels (no image of all channels first).
+    let channels = (0..3)
+        .map(|c| {
+            hits.par_iter()
+                .zip(direct)
+                .map(|(hit, d)| match hit {
+                    Some(h) => {
+                        let t = scene.objects()[h.object].mesh.triangles()[h.triangle];
+                        let w = [1.0 - h.u - h.v, h.u, h.v];
+                        let vs = &vertex_stokes[h.object];
+                        std::array::from_fn(|p| {
+                            d[c][p] + (0..3).map(|i| w[i] * vs[t[i] as usize][c][p]).sum::<f64>()
+                        })
+                    }
+                    None => d[c],
                 })
-            }
-            None => *d,
+                .collect()
         })
         .collect();
-    Ok(StokesImage::from_pixels(cam, &pixels, hits))
+    Ok(StokesImage::from_channels(cam, channels, hits))
 }
