@@ -30,11 +30,11 @@ use std::f64::consts::SQRT_2;
 /// memory; use it to stream blocks at degrees where storing them all is too much.
 pub struct SmallDRecursion {
     steps: HalfSteps,
-    /// The stored half of level `J = 2l` (the current block), then the scratch levels
-    /// `J + 1` and `J + 2` of the next step: three buffers, so that the next step can run
-    /// while the current block is read.
+    /// The stored half of level `J = 2l` (the current block), the rows of level `J + 1`
+    /// in flight ([`Rows::Ring`]) and level `J + 2` of the next step, so that the next
+    /// step can run while the current block is read.
     cur: Vec<f64>,
-    mid: Vec<f64>,
+    ring: Vec<f64>,
     next: Vec<f64>,
     /// Level `J = 2l` held in `cur`.
     level: usize,
@@ -49,7 +49,8 @@ struct HalfSteps {
     sq: Vec<f64>,
     /// Row length of the buffers: `b = -1..=2 lmax + 1`.
     stride: usize,
-    e: [Vec<f64>; 2],
+    /// `sqrt(J - b)`, `sqrt(b)` of the two levels of a degree step.
+    e: [Vec<f64>; 4],
 }
 
 impl SmallDRecursion {
@@ -73,7 +74,7 @@ impl SmallDRecursion {
                 stride,
                 e,
             },
-            mid: vec![0.0; cur.len()],
+            ring: vec![0.0; stride * (RING + 1)],
             next: vec![0.0; cur.len()],
             cur,
             level: 0,
@@ -89,7 +90,7 @@ impl SmallDRecursion {
                 return None;
             }
             self.steps
-                .degree_step(&self.cur, &mut self.mid, &mut self.next, self.level);
+                .degree_step(&self.cur, &mut self.ring, &mut self.next, self.level);
             self.finish_step();
         }
         self.started = true;
@@ -213,66 +214,167 @@ impl Level<'_> {
 }
 
 impl HalfSteps {
-    /// Two half-integer steps: level `J = 2l` in `cur` to `J + 1` in `mid` and `J + 2`
-    /// in `next`.
-    fn degree_step(&mut self, cur: &[f64], mid: &mut [f64], next: &mut [f64], level: usize) {
-        self.half_step(cur, mid, level + 1);
-        self.half_step(mid, next, level + 2);
+    /// Two half-integer steps: level `J = 2l` in `cur` to `J + 2` in `next`, through
+    /// level `J + 1` kept a few rows at a time in `ring` (rows [`Rows::Ring`]): each row
+    /// of `J + 1` is computed just before the rows of `J + 2` that read it, while it is
+    /// in the cache.
+    fn degree_step<'a>(
+        &'a mut self,
+        cur: &[f64],
+        ring: &mut [f64],
+        next: &mut [f64],
+        level: usize,
+    ) {
+        let s = self.stride;
+        let (j1, j2) = (level + 1, level + 2);
+        let (sq, p, q) = (&self.sq, self.p, self.q);
+        let [rev1, fwd1, rev2, fwd2] = &mut self.e;
+        for (rev, fwd, big_j) in [(&mut *rev1, &mut *fwd1, j1), (&mut *rev2, &mut *fwd2, j2)] {
+            for b in 0..=big_j {
+                rev[b] = sq[big_j - b];
+                fwd[b] = sq[b];
+            }
+        }
+        let step = |big_j: usize, rev: &'a [f64], fwd: &'a [f64]| StepConsts {
+            big_j,
+            rev: &rev[..=big_j],
+            fwd: &fwd[..=big_j],
+            inv: 1.0 / big_j as f64,
+            p,
+            q,
+            sq,
+        };
+        let (first, second) = (step(j1, rev1, fwd1), step(j2, rev2, fwd2));
+        // Rows a <= h of each level, plus row h + 1 by symmetry (what the next level reads).
+        let (h1, h2) = ((j1 / 2 + 1).min(j1), (j2 / 2 + 1).min(j2));
+        // Rows 0..done of level J + 1 are in the ring.
+        let mut done = 0;
+        let mut a = 0;
+        while a <= h2 {
+            let two = a < h2;
+            // Rows a (and a + 1) of level J + 2 read rows a - 1..=a (a + 1) of level J + 1.
+            while done <= a + usize::from(two) {
+                if done < h1 {
+                    first.rows(cur, Rows::Full, ring, Rows::Ring, s, done, true);
+                    done += 2;
+                } else if done == h1 {
+                    first.rows(cur, Rows::Full, ring, Rows::Ring, s, done, false);
+                    done += 1;
+                } else if done <= j1 {
+                    first.mirror_row(ring, Rows::Ring, s, done);
+                    done += 1;
+                } else {
+                    // Past the block (only at J + 1 = 1): a row of zeros.
+                    let o = Rows::Ring.slot(done + 1) * s;
+                    ring[o..o + s].fill(0.0);
+                    done += 1;
+                }
+            }
+            second.rows(ring, Rows::Ring, next, Rows::Full, s, a, two);
+            a += 2;
+        }
+        if h2 < j2 {
+            second.mirror_row(next, Rows::Full, s, h2 + 1);
+        }
+    }
+}
+
+/// Where the rows of a level are kept: row `a >= -1` of the recursion (buffer row
+/// `i = a + 1`, row `-1` the zero border) at `slot(i) * stride`, columns `b >= -1` at
+/// `b + 1` within it.
+#[derive(Clone, Copy)]
+enum Rows {
+    /// Every row at its own place.
+    Full,
+    /// The zero border at 0 and the rows `a >= 0` in turn in [`RING`] places after it
+    /// (two rows `a`, `a + 1` with `a` even are always neighbours).
+    Ring,
+}
+
+/// Rows of the ring of [`Rows::Ring`] (even, and at least the four rows in flight:
+/// `a - 1..=a + 2` and, for the row by symmetry, `h - 2..=h + 1`).
+const RING: usize = 8;
+
+impl Rows {
+    /// The place of buffer row `i` (recursion row `i - 1`).
+    fn slot(self, i: usize) -> usize {
+        match self {
+            Rows::Full => i,
+            Rows::Ring if i == 0 => 0,
+            Rows::Ring => 1 + (i - 1) % RING,
+        }
+    }
+}
+
+/// The constants of one half-integer step to level `J`.
+struct StepConsts<'a> {
+    big_j: usize,
+    /// `sqrt(J - b)` and `sqrt(b)` over `b = 0..=J`.
+    rev: &'a [f64],
+    fwd: &'a [f64],
+    inv: f64,
+    p: f64,
+    q: f64,
+    sq: &'a [f64],
+}
+
+impl StepConsts<'_> {
+    /// Row constants of the recursion: `sqrt(J-a)/J {p, q}`, `sqrt(a)/J {q, p}`.
+    fn row(&self, a: usize) -> [f64; 4] {
+        let (ca, cb) = (self.sq[self.big_j - a] * self.inv, self.sq[a] * self.inv);
+        [ca * self.p, ca * self.q, cb * self.q, cb * self.p]
     }
 
-    /// One half-integer step: level `J - 1` in `src` to level `J` in `dst` (rows
-    /// `a <= J/2 + 1`, plus the next row by symmetry).
-    fn half_step(&mut self, src: &[f64], dst: &mut [f64], big_j: usize) {
-        let s = self.stride;
-        let sq = &self.sq;
-        let inv = 1.0 / big_j as f64;
-        // sq[J - b] and sq[b] as contiguous slices over b = 0..=J.
-        let [rev, fwd] = &mut self.e;
-        for b in 0..=big_j {
-            rev[b] = sq[big_j - b];
-            fwd[b] = sq[b];
-        }
-        let h = (big_j / 2 + 1).min(big_j);
-        let n = big_j + 1;
-        let (rev, fwd) = (&rev[..n], &fwd[..n]);
-        // Row constants of the recursion: sqrt(J-a)/J {p, q}, sqrt(a)/J {q, p}.
-        let consts = |a: usize| {
-            let (ca, cb) = (sq[big_j - a] * inv, sq[a] * inv);
-            [ca * self.p, ca * self.q, cb * self.q, cb * self.p]
-        };
-        // Source row `a` (level J - 1) at columns b and b - 1, as equal-length slices
-        // over b = 0..=J: the loops below run in SIMD lanes.
-        let src_row = |a: usize| {
-            let x = &src[a * s..a * s + n + 1];
+    /// Row `a` of level `J` into `dst` from level `J - 1` in `src`, and with `two` row
+    /// `a + 1` in the same pass, sharing the loads of their common source row (`a` even).
+    #[allow(clippy::too_many_arguments)]
+    fn rows(
+        &self,
+        src: &[f64],
+        src_rows: Rows,
+        dst: &mut [f64],
+        dst_rows: Rows,
+        s: usize,
+        a: usize,
+        two: bool,
+    ) {
+        let n = self.big_j + 1;
+        let (rev, fwd) = (self.rev, self.fwd);
+        // Source row `a - 1` (buffer row `i = a`) at columns b and b - 1, as equal-length
+        // slices over b = 0..=J: the loops below run in SIMD lanes.
+        let src_row = |i: usize| {
+            let o = src_rows.slot(i) * s;
+            let x = &src[o..o + n + 1];
             (&x[1..], &x[..n])
         };
-        // Rows a and a + 1 in one pass, sharing the loads of source row a.
-        let mut a = 0;
-        while a < h {
-            let (c0, c1) = (consts(a), consts(a + 1));
-            let ((y1, y0), (x1, x0), (z1, z0)) = (src_row(a), src_row(a + 1), src_row(a + 2));
-            let (upper, lower) = dst[(a + 1) * s..(a + 3) * s].split_at_mut(s);
+        let ((y1, y0), (x1, x0)) = (src_row(a), src_row(a + 1));
+        let o = dst_rows.slot(a + 1) * s;
+        if two {
+            debug_assert!(a % 2 == 0 && dst_rows.slot(a + 2) == dst_rows.slot(a + 1) + 1);
+            let (c0, c1) = (self.row(a), self.row(a + 1));
+            let (z1, z0) = src_row(a + 2);
+            let (upper, lower) = dst[o..o + 2 * s].split_at_mut(s);
             let (row, row1) = (&mut upper[1..1 + n], &mut lower[1..1 + n]);
             for b in 0..n {
                 row[b] = risbo(c0, rev[b], fwd[b], x1[b], x0[b], y1[b], y0[b]);
                 row1[b] = risbo(c1, rev[b], fwd[b], z1[b], z0[b], x1[b], x0[b]);
             }
-            a += 2;
-        }
-        if a == h {
-            let c = consts(a);
-            let ((y1, y0), (x1, x0)) = (src_row(a), src_row(a + 1));
-            let row = &mut dst[(a + 1) * s + 1..(a + 1) * s + 1 + n];
+        } else {
+            let c = self.row(a);
+            let row = &mut dst[o + 1..o + 1 + n];
             for b in 0..n {
                 row[b] = risbo(c, rev[b], fwd[b], x1[b], x0[b], y1[b], y0[b]);
             }
         }
-        let a = h + 1;
-        if a <= big_j {
-            for b in 0..=big_j {
-                let v = dst[(big_j - a + 1) * s + (big_j - b) + 1];
-                dst[(a + 1) * s + b + 1] = if (a + b) % 2 == 0 { v } else { -v };
-            }
+    }
+
+    /// Row `a` of level `J` from row `J - a` by `d[a][b] = (-1)^{a+b} d[J-a][J-b]`.
+    fn mirror_row(&self, dst: &mut [f64], rows: Rows, s: usize, a: usize) {
+        let big_j = self.big_j;
+        let (from, to) = (rows.slot(big_j - a + 1) * s, rows.slot(a + 1) * s);
+        for b in 0..=big_j {
+            let v = dst[from + (big_j - b) + 1];
+            dst[to + b + 1] = if (a + b) % 2 == 0 { v } else { -v };
         }
     }
 }
@@ -428,7 +530,7 @@ fn for_each_level(beta: f64, lmax: usize, mut f: impl FnMut(&Level<'_>) + Send) 
         let SmallDRecursion {
             steps,
             cur,
-            mid,
+            ring,
             next,
             level,
             ..
@@ -443,7 +545,7 @@ fn for_each_level(beta: f64, lmax: usize, mut f: impl FnMut(&Level<'_>) + Send) 
             f(&current);
             return;
         }
-        let mut step = || steps.degree_step(cur, mid, next, *level);
+        let mut step = || steps.degree_step(cur, ring, next, *level);
         if l >= PIPELINE_DEGREE {
             rayon::join(|| f(&current), step);
         } else {
