@@ -14,8 +14,9 @@
 //! coefficients are held at once: above [`FOLD_BYTES`] of them (high degrees), the cross is
 //! projected as a whole instead, in the work space of one output.
 
+use super::image::check_texel;
 use super::{project_image, Codomain, PshVector};
-use crate::error::{check_len, Error, Result};
+use crate::error::{check_len, Result};
 use crate::geometry::frame::{CubeMapFrameField, PerspectiveFrameField};
 use crate::geometry::image_grid::{CubeCross, CubeFace, PixelGrid};
 use nalgebra::Rotation3;
@@ -91,15 +92,12 @@ pub fn project_cube_map(
     for &face in &FACES {
         let f = Face { cross: grid, face };
         for (c, ch) in channels.iter().enumerate() {
-            let texels: Vec<[f64; 4]> = (0..f.len()).map(|k| ch[f.cross_index(k)]).collect();
-            if let Some(k) = texels.iter().position(|s| s.iter().any(|x| !x.is_finite())) {
-                let i = f.cross_index(k);
-                return Err(Error::InvalidArgument {
-                    name: "Stokes texel",
-                    value: format!("channel {c}, texel {i}: {:?}", ch[i]),
-                    reason: "components must be finite".into(),
-                });
-            }
+            let texels = (0..f.len())
+                .map(|k| {
+                    let i = f.cross_index(k);
+                    check_texel(c, i, ch[i]).map(|()| ch[i])
+                })
+                .collect::<Result<Vec<[f64; 4]>>>()?;
             folded.push(texels);
         }
     }

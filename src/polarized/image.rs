@@ -75,13 +75,7 @@ pub fn project_image(
         for (t, k) in range.enumerate() {
             let (i, omega) = (texels.index[k], texels.omega[k]);
             for (c, ch) in channels.iter().enumerate() {
-                if ch[i].iter().any(|x| !x.is_finite()) {
-                    return Err(Error::InvalidArgument {
-                        name: "Stokes texel",
-                        value: format!("channel {c}, texel {i}: {:?}", ch[i]),
-                        reason: "components must be finite".into(),
-                    });
-                }
+                check_texel(c, i, ch[i])?;
             }
             let vt = &mut vc[t * v_rows..(t + 1) * v_rows];
             for (row, (c, &(_, p))) in vt.iter_mut().zip(
@@ -140,6 +134,18 @@ pub fn project_image(
         );
     }
     Ok(out)
+}
+
+/// Error: a non-finite component of texel `i` (index on the grid) of channel `c`.
+pub(crate) fn check_texel(c: usize, i: usize, s: [f64; 4]) -> Result<()> {
+    if s.iter().all(|x| x.is_finite()) {
+        return Ok(());
+    }
+    Err(Error::InvalidArgument {
+        name: "Stokes texel",
+        value: format!("channel {c}, texel {i}: {s:?}"),
+        reason: "components must be finite".into(),
+    })
 }
 
 /// The factor `e^{-2 i vartheta}` that takes `s1 + i s2` from frame `from` to the frame of

@@ -41,9 +41,9 @@ impl Texels {
 }
 
 /// Real SH coefficients (PSH (12)) of real images: `v[i * rows + r]` is image `r` at
-/// `sites[i]` (weights folded in; real values, as complex numbers); `put(r, lm, f_lm)` for each coefficient of `l <= lmax`
-/// (flat index `lm`), `put` locked once per order. From the sums
-/// `a_lm = sum_i conj(Y_lm(w_i)) v_i` of the orders `m >= 0` ([`order_sums`]) and
+/// `sites[i]` (weights folded in; real values, as complex numbers); `put(r, lm, f_lm)` for
+/// each coefficient of `l <= lmax` (flat index `lm`), `put` locked once per order. From
+/// the sums `a_lm = sum_i conj(Y_lm(w_i)) v_i` of the orders `m >= 0` ([`order_sums`]) and
 /// `Y^R_lm = sqrt(2) Re Y_lm`, `Y_l0`, `sqrt(2) Im Y_{l|m|}` (`m > 0`, `0`, `< 0`;
 /// [`super::harmonics`]): `f_l0 = Re a_l0`, `f_lm = sqrt(2) Re a_lm`,
 /// `f_{l,-m} = -sqrt(2) Im a_lm`.
