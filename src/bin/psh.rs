@@ -677,10 +677,9 @@ struct Evaluation {
 }
 
 /// Largest degree `psh eval swsh` and `swsh-points` evaluate: the Wigner-d construction
-/// of [`psh::swsh::swsh`] costs `lmax^3` per direction (5 s at 1024, 41 s at 2048). The
-/// `O(lmax^2)` recursion of `SpinEvaluator` is not used here: near the poles it is off by
-/// 6e-12 of the bound at l = 500 for `m = +-s` (against `spherical`), where this
-/// construction stays at 2e-14.
+/// of [`psh::swsh::swsh`] costs `lmax^3` per direction (5 s at 1024, 41 s at 2048). It is
+/// the reference the `O(lmax^2)` `SpinEvaluator` (Python's `psh.swsh`) is checked against;
+/// both meet `10 l eps` of the bound at the poles (`proofs/swsh.md`).
 const MAX_SWSH_EVAL_DEGREE: usize = 1024;
 
 /// Largest `points x (lmax+1)^3` of `psh eval swsh-points` (about a minute).

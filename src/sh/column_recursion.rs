@@ -39,6 +39,19 @@ impl HalfAngle {
         Self { cos, sin }
     }
 
+    /// The half angles of `pi - theta`: `cos` and `sin` swapped, exactly.
+    pub(crate) fn mirrored(self) -> Self {
+        Self {
+            cos: self.sin,
+            sin: self.cos,
+        }
+    }
+
+    /// `cos(theta/2)`.
+    pub(crate) fn cos(&self) -> f64 {
+        self.cos
+    }
+
     /// `u = 1 - cos theta = 2 sin^2(theta/2)`, the variable of the recursion.
     pub(crate) fn u(&self) -> f64 {
         2.0 * self.sin * self.sin

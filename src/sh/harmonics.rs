@@ -99,12 +99,11 @@ impl CisWalk {
 
 /// Evaluator of complex and real SH up to a fixed degree.
 ///
-/// [`ShEvaluator::new`] holds `f64` Legendre tables (the fast path). Its error, relative to
-/// the band maximum, is below `2e-13` for `l <= 2048` away from the poles (`theta >= 0.1`)
-/// but grows near them, to about `1e-11` at `l = 1000` and `5e-11` at `l = 2048` within
-/// `1e-8` of a pole (check `sh.fast_path_l2048`); below `l = 200` it is under `1e-13`
-/// everywhere. [`ShEvaluator::accurate`] runs the double-double recursion (a few `1e-16`
-/// at any degree, about ten times slower).
+/// [`ShEvaluator::new`] holds `f64` Legendre tables (the fast path): within `10 l eps` of
+/// `sqrt((2l+1)/(4 pi))` at every angle, the poles included (measured 0.72 `l eps` to
+/// `l = 2048`, check `sh.fast_path_l2048`; the zonal column runs in Reinsch's difference
+/// form, `proofs/legendre-recursion.md` §4a). [`ShEvaluator::accurate`] runs the
+/// double-double recursion (a few `1e-16` at any degree, about ten times slower).
 #[derive(Clone, Debug)]
 pub struct ShEvaluator {
     lmax: usize,
@@ -355,10 +354,60 @@ pub fn sh_real(lmax: usize, theta: f64, phi: f64) -> Result<Vec<f64>> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::geometry::direction;
     use std::f64::consts::PI;
+
+    /// The polar angles of the edge checks: the poles, 1e-300, 1e-12, 1e-8 and 1e-4 from
+    /// them, the equator.
+    pub(crate) const EDGE_THETAS: [f64; 10] = [
+        0.0,
+        1e-300,
+        1e-12,
+        1e-8,
+        1e-4,
+        PI / 2.0,
+        PI - 1e-4,
+        PI - 1e-8,
+        PI - 1e-12,
+        PI,
+    ];
+
+    /// The fast evaluator (pointwise and batch) meets `10 l eps` of
+    /// `sqrt((2l+1)/(4 pi))` at the edge angles, against the double-double path (checked
+    /// against 40-digit values by `sh.legendre_oracle`). Before the zonal column's
+    /// difference form it was 9.4e-12 off at `l = 1024`, `theta = 1e-8` (4x the bound).
+    #[test]
+    fn fast_path_meets_ten_l_eps_at_the_poles() {
+        let lmax = 1024;
+        let fast = ShEvaluator::new(lmax).unwrap();
+        let n = fast.len();
+        let dirs: Vec<[f64; 3]> = EDGE_THETAS.iter().map(|&t| direction(t, 0.7)).collect();
+        let mut batch = vec![0.0; dirs.len() * n];
+        fast.real_batch(&dirs, &mut batch).unwrap();
+        let mut y = vec![0.0; n];
+        for (k, &t) in EDGE_THETAS.iter().enumerate() {
+            fast.real(t, 0.7, &mut y).unwrap();
+            let want = sh_real(lmax, t, 0.7).unwrap();
+            // The batch takes the direction, whose polar angle is that of `t` rounded
+            // through cos and sin: compare it with the accurate values at its own angle.
+            let (tb, pb) = crate::geometry::direction_angles(dirs[k]).unwrap();
+            let want_batch = sh_real(lmax, tb, pb).unwrap();
+            for l in 0..=lmax {
+                let bound = 10.0
+                    * l.max(1) as f64
+                    * f64::EPSILON
+                    * ((2 * l + 1) as f64 / (4.0 * PI)).sqrt();
+                for i in l * l..(l + 1) * (l + 1) {
+                    let e = (y[i] - want[i]).abs();
+                    assert!(e <= bound, "theta {t} l {l} index {i}: {e:e} > {bound:e}");
+                    let e = (batch[k * n + i] - want_batch[i]).abs();
+                    assert!(e <= bound, "batch theta {t} l {l} index {i}: {e:e}");
+                }
+            }
+        }
+    }
 
     /// PSH (12) against its complex form, and Y_{l,-m} = (-1)^m conj(Y_lm).
     #[test]

@@ -991,6 +991,25 @@ mod tests {
         }
     }
 
+    /// `D^1` of the edge rotations (identity, tiny turns about axes near z, tilted and
+    /// horizontal, near half turns) against its Cayley-Klein form, within `10 eps`
+    /// (`proofs/euler-angles.md`).
+    #[test]
+    fn degree_one_blocks_are_the_cayley_klein_form_at_the_edges() {
+        let e = crate::testing::cayley_klein_error().unwrap();
+        assert!(e < 10.0, "{e} eps");
+    }
+
+    /// `D^40` of the edge rotations, built from their vectors and as matrix products,
+    /// against the product of the blocks of their factorization about y and z, within
+    /// `10 l eps`. The Euler angles from atan2 of matrix entries gave 1.5e-3 for the turn
+    /// by 1e-12 about an axis 1e-3 from z, built as a product.
+    #[test]
+    fn edge_rotations_equal_their_factorization_about_y_and_z() {
+        let e = crate::testing::factorization_error(40).unwrap();
+        assert!(e < 10.0, "{e} l eps");
+    }
+
     #[test]
     fn bad_angles_are_errors() {
         assert!(small_d_block(3, f64::INFINITY).is_err());
