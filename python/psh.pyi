@@ -99,16 +99,20 @@ class PshVector:
     def band_energies(self) -> FloatArray: ...
 
 def sh_real(lmax: int, dirs: ArrayLike) -> FloatArray:
-    """Real SH PSH (12): ``(..., (lmax+1)^2)``."""
+    """Real SH PSH (12): ``(..., (lmax+1)^2)``; within ``10 l eps`` of
+    ``sqrt((2l+1)/4pi)`` at every direction, the poles included (docs/stability.md)."""
 
 def sh_complex(lmax: int, dirs: ArrayLike) -> ComplexArray:
-    """Complex SH PSH (1): ``(..., (lmax+1)^2)``."""
+    """Complex SH PSH (1): ``(..., (lmax+1)^2)``; within ``10 l eps`` of
+    ``sqrt((2l+1)/4pi)`` at every direction, the poles included (docs/stability.md)."""
 
 def swsh(spin: int, lmax: int, dirs: ArrayLike) -> ComplexArray:
-    """Spin-weighted SH PSH (26)-(27): ``(..., (lmax+1)^2)``, zero where l < |spin|."""
+    """Spin-weighted SH PSH (26)-(27): ``(..., (lmax+1)^2)``, zero where l < |spin|;
+    within ``10 l eps`` of ``sqrt((2l+1)/4pi)`` at every direction, the poles included."""
 
 def wigner_d(rotation: Rotation, lmax: int) -> list[ComplexArray]:
-    """``D^l_{m m'}`` PSH (9) per degree, ``(2l+1, 2l+1)``, rows m, columns m'."""
+    """``D^l_{m m'}`` PSH (9) per degree, ``(2l+1, 2l+1)``, rows m, columns m'; within
+    ``10 l eps`` for every rotation, tiny and near-half turns included."""
 
 def wigner_d_real(rotation: Rotation, lmax: int) -> list[FloatArray]:
     """Real Wigner blocks PSH (13) per degree, ``(2l+1, 2l+1)``."""

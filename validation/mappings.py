@@ -63,10 +63,29 @@ def real_sh_basis(l):
     return u
 
 
+def real_sh_from_complex(y, lmax):
+    """psh's real SH (PSH (12)) from its complex SH y (flat order, last axis) of a real
+    direction: Y^R_l0 = Re Y_l0, Y^R_lm = sqrt 2 Re Y_lm and Y^R_l,-m = sqrt 2 Im Y_lm
+    for m > 0 (rows of U, with Y_l,-m = (-1)^m conj(Y_lm))."""
+    l, m = lm_arrays(lmax)
+    y = np.asarray(y)
+    pos = y[..., flat(l, np.abs(m))]
+    return np.where(m == 0, pos.real, np.sqrt(2) * np.where(m > 0, pos.real, pos.imag))
+
+
 def real_D_from_complex(l, d):
-    """psh's real block D^{l,R} = conj(U) D U^T (PSH (13), docs/conventions.md §8)."""
+    """psh's real block D^{l,R} = conj(U) D U^T (PSH (13), docs/conventions.md §8).
+    Row m of U has its entries in the columns m and -m only, so the products are taken
+    as two row (column) combinations each: O(l^2), where the dense products are O(l^3)
+    (the same sums, at most two terms each)."""
     u = real_sh_basis(l)
-    return np.conj(u) @ d @ u.T
+    n = 2 * l + 1
+    i = np.arange(n)
+    a = u[i, i]                          # U[m, m]
+    b = np.where(i == l, 0, u[i, n - 1 - i])  # U[m, -m], none at m = 0
+    d = np.asarray(d)
+    x = np.conj(a)[:, None] * d + np.conj(b)[:, None] * d[::-1, :]
+    return x * a[None, :] + x[:, ::-1] * b[None, :]
 
 
 # ---- sphericart --------------------------------------------------------------------

@@ -32,19 +32,57 @@ def ducc_synthesis(alm, spin, theta=None):
     return maps.reshape(-1, nt, NPHI)
 
 
-# ducc0's own synthesis error next to the poles at L = 512, relative to max |map|:
-# 3.0e-13 at ring 511 and 7.5e-14 at ring 1, measured once against a 35-digit
-# evaluation of the sum (mpmath, the same random coefficients); psh's was 6e-14 and
-# 5e-16 there.
-DUCC0_MAP_ERROR = 5e-13
+# ducc0's own synthesis error at the polar rings at L = 512, relative to max |map|,
+# against a 30-digit evaluation of the sum (exact_ring; the same random coefficients):
+# 1.9e-12 for the complex transform at ring 512 and 1.1e-12 at ring 0 (test_scalar_complex
+# records it in every run), 3.0e-13 for the real one at ring 511; psh's is 6e-14 at the
+# same points. The former allowance of 5e-13 (from the real transform only) was hidden
+# by the ring offsets of psh's former acos angles (1.9e-12 of the map tolerance).
+DUCC0_MAP_ERROR = 2.5e-12
+
+
+def exact_ring(f, theta, ks, dps=30):
+    """The complex synthesis sum_{l <= L, m} f_lm Y_lm(theta, phi_k), phi_k = 2 pi k /
+    NPHI, at the ring `theta` (a double, taken exactly) and the meridians `ks`, in `dps`
+    digits: Pbar_lm by the sectoral start and the forward recursion in l (DLMF 14.10.3,
+    as test_mpmath.pbar_column), with the reflection about pi/2 for theta > pi/2."""
+    import mpmath as mp
+
+    with mp.workdps(dps):
+        t = mp.mpf(float(theta))
+        south = t > mp.pi / 2
+        if south:
+            t = mp.pi - t
+        x, s = mp.cos(t), mp.sin(t)
+        fourier = {}
+        p = 1 / mp.sqrt(4 * mp.pi)
+        for m in range(L + 1):
+            if m:
+                p = -mp.sqrt(mp.mpf(2 * m + 1) / (2 * m)) * s * p
+            prev, cur, inv_a = mp.mpf(0), p, mp.mpf(0)
+            plus = minus = mp.mpc(0)
+            for l in range(m, L + 1):
+                if l > m:
+                    a = mp.sqrt(mp.mpf(4 * l * l - 1) / ((l - m) * (l + m)))
+                    prev, cur, inv_a = cur, a * (x * cur - prev * inv_a), 1 / a
+                v = -cur if (south and (l + m) % 2) else cur
+                plus += mp.mpc(f[l * l + l + m].real, f[l * l + l + m].imag) * v
+                if m:
+                    minus += mp.mpc(f[l * l + l - m].real, f[l * l + l - m].imag) * v
+            fourier[m] = plus
+            if m:
+                fourier[-m] = minus * (-1) ** m  # Y_l,-m = (-1)^m conj(Y_lm)
+        return np.array([complex(sum(fourier[m] * mp.expj(2 * mp.pi * m * k / NPHI)
+                                     for m in range(-L, L + 1))) for k in ks])
 
 
 def map_tolerance(psh_theta):
     """Tolerance of a map comparison on the two grids: psh's rings sit delta_j =
-    theta_psh - theta_GL off ducc0's, and along a meridian a band-limited map (spin 0 or
-    spin-weighted: a trigonometric polynomial of degree <= L in theta) has
-    |d f / d theta| <= L max |f| (Bernstein), so the maps may differ by
-    L max_j |delta_j| max |f| (1.9e-12 here), plus ducc0's own error."""
+    theta_psh - theta_GL off ducc0's (at most 4 eps since the angles are computed in theta:
+    test_grid), and along a meridian a band-limited map (spin 0 or spin-weighted: a
+    trigonometric polynomial of degree <= L in theta) has |d f / d theta| <= L max |f|
+    (Bernstein), so the maps may differ by L max_j |delta_j| max |f| (at most 4.5e-13,
+    1.9e-12 with the former acos angles), plus ducc0's own error."""
     delta = np.abs(psh_theta - ducc0.misc.GL_thetas(NTHETA)).max()
     return L * delta + DUCC0_MAP_ERROR
 
@@ -70,15 +108,16 @@ def psh_theta(psh):
 
 
 def test_grid(psh_theta, record):
-    """psh's Gauss-Legendre rings against ducc0's, as nodes x = cos(theta) of the rule.
-    (In theta they differ by up to 3.7e-15 rad next to the poles: psh's Newton steps
-    evaluate P_n at cos(theta) rounded to a double, which fixes x to ~eps but theta only
-    to ~eps / sin(theta); ducc0's angles are accurate to an ulp. See map_tolerance.)"""
+    """psh's Gauss-Legendre polar angles against ducc0's (accurate to an ulp), in theta:
+    near the poles psh runs its Newton steps in theta with P_n in the difference form in
+    1 - cos(theta) (proofs/quadrature.md), where taking them from x = cos(theta) fixed x
+    to ~eps but theta only to ~eps / sin(theta) (3.7e-15 here before; the edge sweep,
+    test_edges.py, checks n = 2048 against mpmath)."""
     ref = ducc0.misc.GL_thetas(NTHETA)
-    dx = np.abs(psh_theta - ref) * np.sin(ref)
-    # First-order |cos(theta_psh) - cos(theta_ducc0)|: measured 2.2e-17 (0.1 eps).
-    record("ducc0: Gauss-Legendre nodes x = cos(theta), 513 rings", "ducc0", dx.max(),
-           4 * EPS, "max |delta theta| sin(theta)")
+    # 4 eps absolute: one ulp is 2 eps next to pi, and one more ulp for the computation
+    # (the edge sweep's bound).
+    record("ducc0: Gauss-Legendre polar angles, 513 rings", "ducc0",
+           np.abs(psh_theta - ref).max(), 4 * EPS, "max abs error in theta")
 
 
 def check_transforms(record, name, psh_theta, maps_psh, maps_ducc, coeffs, back_ducc,
@@ -139,6 +178,26 @@ def test_scalar_complex(psh, psh_theta, rng, record):
                      "--input", psh.save("zref.npy", complex_to_pairs(ref)), out="f_back.npy")
     check_transforms(record, "complex SHT", psh_theta, got, ref, f, back,
                      pairs_to_complex(ana), ducc_analysis_complex(ref))
+    # Both syntheses against the exact sums at the two polar rings, at the 4 meridians
+    # where psh and ducc0 differ most and 4 others.
+    scale = np.abs(ref).max()
+    e_psh = e_ducc = 0.0
+    for j in [0, L]:
+        ks = sorted(set(np.argsort(np.abs(got[j] - ref[j]))[-4:]) | {0, 100, 513, 777})
+        exact = exact_ring(f, psh_theta[j], ks)
+        exact_ducc = exact if psh_theta[j] == ducc0.misc.GL_thetas(NTHETA)[j] else \
+            exact_ring(f, ducc0.misc.GL_thetas(NTHETA)[j], ks)
+        e_psh = max(e_psh, np.abs(got[j, ks] - exact).max() / scale)
+        e_ducc = max(e_ducc, np.abs(ref[j, ks] - exact_ducc).max() / scale)
+    # psh: measured 6.1e-14; a sum of (L+1)^2 terms through recursions whose rounding grows
+    # like L eps: tolerance L eps = 1.1e-13.
+    record("mpmath: psh's complex SHT synthesis L = 512 at the polar rings, 8 meridians each",
+           "mpmath", e_psh, L * EPS, "max abs error / max |map|",
+           "oracle: 30-digit sum (exact_ring)")
+    # ducc0's own error there, the allowance DUCC0_MAP_ERROR of the map comparisons.
+    record("mpmath: ducc0's complex SHT synthesis L = 512 at the polar rings (anchor check)",
+           "mpmath", e_ducc, DUCC0_MAP_ERROR, "max abs error / max |map|",
+           "oracle: 30-digit sum (exact_ring)")
 
 
 @pytest.mark.parametrize("spin", [2, -2])

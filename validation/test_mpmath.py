@@ -4,6 +4,8 @@ phase) at l = 4096 against 50-digit values computed with mpmath."""
 import mpmath as mp
 import numpy as np
 
+from oracles import pbar_mp
+
 L = 4096
 ORDERS = [0, 1, 2, 100, 2048, 4000, 4095, 4096]
 # Polar angles: the poles, 1e-300, 1e-6 and 1e-3 from them (pi - x rounded to a double),
@@ -15,32 +17,10 @@ EPS = np.finfo(float).eps
 
 
 def pbar_column(l, orders, theta):
-    """Pbar_lm(theta), m in `orders`, for the exact double `theta`, in DPS-digit
-    arithmetic: the sectoral start Pbar_mm = (-1)^m sqrt((2m+1)!! / (2m)!! / (4 pi)) sin^m
-    and the forward recursion in l of DLMF 14.10.3, normalized:
-    Pbar_lm = a_lm (x Pbar_l-1,m - Pbar_l-2,m / a_l-1,m), a_lm = sqrt((4l^2-1)/(l^2-m^2)),
-    stable for fixed m and increasing l. For theta > pi/2 it uses the reflection
-    Pbar_lm(pi - theta) = (-1)^(l+m) Pbar_lm(theta) (DLMF 14.7.17), with pi - theta in
-    DPS digits (so theta = pi, the double, is 1.2e-16 from the pole)."""
-    with mp.workdps(DPS):
-        t = mp.mpf(theta)
-        south = t > mp.pi / 2
-        if south:
-            t = mp.pi - t
-        x, s = mp.cos(t), mp.sin(t)
-        out = {}
-        for m in orders:
-            p = 1 / mp.sqrt(4 * mp.pi)
-            for k in range(1, m + 1):
-                p = -mp.sqrt(mp.mpf(2 * k + 1) / (2 * k)) * s * p
-            prev, cur = mp.mpf(0), p
-            inv_a_prev = mp.mpf(0)
-            for k in range(m + 1, l + 1):
-                a = mp.sqrt(mp.mpf(4 * k * k - 1) / ((k - m) * (k + m)))
-                prev, cur = cur, a * (x * cur - prev * inv_a_prev)
-                inv_a_prev = 1 / a
-            out[m] = -cur if (south and (l + m) % 2) else cur
-        return out
+    """Pbar_lm(theta), m in `orders`, at degree l for the exact double `theta`, in
+    DPS-digit arithmetic (`oracles.pbar_mp`: the sectoral start and the forward recursion
+    of DLMF 14.10.3, the reflection about pi/2 in DPS digits)."""
+    return {m: col[-1] for m, col in pbar_mp(l, orders, theta, DPS).items()}
 
 
 def test_reference_against_mpmath_legenp(record):

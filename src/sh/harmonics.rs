@@ -100,10 +100,13 @@ impl CisWalk {
 /// Evaluator of complex and real SH up to a fixed degree.
 ///
 /// [`ShEvaluator::new`] holds `f64` Legendre tables (the fast path): within `10 l eps` of
-/// `sqrt((2l+1)/(4 pi))` at every angle, the poles included (measured 0.72 `l eps` to
-/// `l = 2048`, check `sh.fast_path_l2048`; the zonal column runs in Reinsch's difference
-/// form, `proofs/legendre-recursion.md` §4a). [`ShEvaluator::accurate`] runs the
-/// double-double recursion (a few `1e-16` at any degree, about ten times slower).
+/// `sqrt((2l+1)/(4 pi))` to `l = 4096` at every angle measured, the poles included (0.72
+/// `l eps` to `l = 2048` at the edge angles, check `sh.fast_path_l2048`; 5.2 `l eps` at
+/// `l = 2048`, `theta = 1e-3`, order 1; the zonal column runs in Reinsch's difference
+/// form, `proofs/legendre-recursion.md` §4a). Beyond, the low orders' rounding in the
+/// polar caps grows like `l^2 eps`: 14 `l eps` at `l = 8192`, `theta = 2e-4`, order 1
+/// (docs/stability.md). [`ShEvaluator::accurate`] runs the double-double recursion (a few
+/// `1e-16` at any degree, about ten times slower).
 #[derive(Clone, Debug)]
 pub struct ShEvaluator {
     lmax: usize,
