@@ -376,6 +376,38 @@ mod tests {
         }
     }
 
+    /// A PSH vector turned by each edge rotation (`testing::EDGE_ROTATIONS`: tiny turns
+    /// about axes near z, tilted and horizontal, near half turns), built as a matrix
+    /// product, equals it turned by `A^-1 R` and then by `A` for a generic `A`: both
+    /// factors have well-determined Euler angles, so the route never meets the
+    /// ill-determined angles of a small tilt. Within `10 l eps` of the largest
+    /// coefficient; the Euler angles from atan2 of matrix entries were off by up to
+    /// `eps / sin(beta)` (`proofs/euler-angles.md`).
+    #[test]
+    fn edge_rotations_equal_a_route_through_a_generic_rotation() {
+        use nalgebra::{Rotation3, Vector3};
+        let lmax = 40;
+        let v = random_psh(lmax, Codomain::Full, 1, 11).unwrap();
+        let scale = v.data().iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        let a = rotation_from_rotvec([0.3, -1.1, 0.7]).unwrap();
+        let z = |t: f64| Rotation3::from_axis_angle(&Vector3::z_axis(), t);
+        let y = |t: f64| Rotation3::from_axis_angle(&Vector3::y_axis(), t);
+        for &(tilt, phi, t) in &crate::testing::EDGE_ROTATIONS {
+            let r = z(phi) * y(tilt) * z(t) * y(-tilt) * z(-phi);
+            let direct = v.rotated(&r).unwrap();
+            let routed = v.rotated(&(a.inverse() * r)).unwrap().rotated(&a).unwrap();
+            let err = direct
+                .data()
+                .iter()
+                .zip(routed.data())
+                .fold(0.0f64, |m, (g, w)| m.max((g - w).abs()));
+            assert!(
+                err < 10.0 * lmax as f64 * f64::EPSILON * scale,
+                "tilt {tilt} phi {phi} t {t}: {err:e}"
+            );
+        }
+    }
+
     #[test]
     fn stored_blocks_are_checked_against_the_budget() {
         let r = rotation_from_rotvec([0.0, 0.0, 1.0]).unwrap();
