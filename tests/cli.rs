@@ -869,6 +869,43 @@ fn eval_legendre_both_paths() {
     assert_eq!(bad.status.code(), Some(1));
 }
 
+/// The 5-point rule against its closed form: nodes 0, +-sqrt(5 -+ 2 sqrt(10/7)) / 3,
+/// weights 128/225 and (322 +- 13 sqrt(70)) / 900; sizes past the largest grid refused.
+#[test]
+fn eval_grid_prints_the_gauss_legendre_rule() {
+    let v = psh_json(&["eval", "grid", "--n", "5"]);
+    let theta: Vec<f64> = v["theta"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    let weights: Vec<f64> = v["weights"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    let (a, b) = (
+        (5.0 - 2.0 * (10.0f64 / 7.0).sqrt()).sqrt() / 3.0,
+        (5.0 + 2.0 * (10.0f64 / 7.0).sqrt()).sqrt() / 3.0,
+    );
+    let (wa, wb) = (
+        (322.0 + 13.0 * 70f64.sqrt()) / 900.0,
+        (322.0 - 13.0 * 70f64.sqrt()) / 900.0,
+    );
+    let nodes = [b, a, 0.0, -a, -b];
+    let w = [wb, wa, 128.0 / 225.0, wa, wb];
+    for j in 0..5 {
+        assert!((theta[j].cos() - nodes[j]).abs() < 4e-16, "node {j}");
+        assert!((weights[j] - w[j]).abs() < 4e-16, "weight {j}");
+    }
+    for bad in ["0", "8194", "18446744073709551615"] {
+        let out = psh(&["eval", "grid", "--n", bad]);
+        assert_eq!(out.status.code(), Some(1), "--n {bad}");
+    }
+}
+
 #[test]
 fn eval_sht_round_trips() {
     let dir = eval_dir("sht");

@@ -1293,6 +1293,7 @@ const TEMPLATES: &[&[&str]] = &[
     ],
     &["eval", "legendre", "--l", "3", "--theta", "0.5"],
     &["eval", "legendre", "--l", "4", "--theta", "3.0", "--fast"],
+    &["eval", "grid", "--n", "7"],
     &[
         "eval",
         "sht",
@@ -1428,6 +1429,7 @@ const TEMPLATES: &[&[&str]] = &[
 /// Flags of every subcommand, inserted at random.
 const FLAGS: &[&str] = &[
     "--lmax",
+    "--n",
     "--l",
     "--spin",
     "--theta",

@@ -301,30 +301,24 @@ def gl_nodes_checked(n):
 
 
 def test_gl_angles(psh, record):
-    """psh's Gauss-Legendre polar angles at n = 2048 (the grid of psh eval sht at
-    L = 2047) against ducc0.misc.GL_thetas (all nodes) and the mpmath Newton iteration
-    (nodes near both poles); ducc0 itself against mpmath at n = 2048 and 8192. psh's grid
-    at n = 8192 (L = 8191: a minute and 1.5 GB of files through psh eval sht) is measured
-    by validation/stability.py (docs/stability.md)."""
-    n = 2048
-    meta = psh.run("eval", "sht", "--kind", "real", "--lmax", n - 1, "--op", "synthesis",
-                   "--input", psh.save("edge_zero.npy", np.zeros(n * n)),
-                   "--output", psh.path("edge_zero_map.npy"))["grid"]
-    psh.path("edge_zero_map.npy").unlink()
-    theta = np.array(meta["theta"])
-    assert meta["n_theta"] == n == len(theta)
-    ks = gl_nodes_checked(n)
-    exact = {m: oracles.gl_thetas(m, gl_nodes_checked(m)) for m in [2048, 8192]}
-    # 4 eps absolute: an angle accurate to an ulp is within 2 eps near pi (ulp(pi) =
-    # 2 eps) and eps elsewhere; 4 eps leaves one more ulp for the computation. Measured
-    # (ducc0 against mpmath) 2 eps: one ulp next to the south pole.
-    record("edges: Gauss-Legendre polar angles n = 2048, all nodes", "ducc0",
-           np.abs(theta - ducc0.misc.GL_thetas(n)).max(), 4 * EPS, "max abs error in theta")
-    record("edges: Gauss-Legendre polar angles n = 2048, 10 nodes near the poles and "
-           "the equator", "mpmath", np.abs(theta[ks] - exact[n]).max(), 4 * EPS,
-           "max abs error in theta", "oracle: 40-digit Newton iteration in theta")
-    for m in [2048, 8192]:
-        ks = gl_nodes_checked(m)
-        err = np.abs(ducc0.misc.GL_thetas(m)[ks] - exact[m]).max()
-        record(f"edges: ducc0's GL_thetas n = {m} (anchor check)", "mpmath", err, 4 * EPS,
+    """psh's Gauss-Legendre polar angles at n = 2048 and 8192 (psh eval grid) against
+    ducc0.misc.GL_thetas (all nodes) and the mpmath Newton iteration (nodes near both
+    poles and at the equator); ducc0 itself against mpmath."""
+    for n in [2048, 8192]:
+        meta = psh.run("eval", "grid", "--n", n)
+        theta = np.array(meta["theta"])
+        assert meta["n"] == n == len(theta)
+        ks = gl_nodes_checked(n)
+        exact = oracles.gl_thetas(n, ks)
+        # 4 eps absolute: an angle accurate to an ulp is within 2 eps near pi (ulp(pi) =
+        # 2 eps) and eps elsewhere; 4 eps leaves one more ulp for the computation.
+        # Measured 4.4e-16 (2 eps, one ulp next to the south pole) at both sizes.
+        record(f"edges: Gauss-Legendre polar angles n = {n}, all nodes", "ducc0",
+               np.abs(theta - ducc0.misc.GL_thetas(n)).max(), 4 * EPS,
+               "max abs error in theta")
+        record(f"edges: Gauss-Legendre polar angles n = {n}, 10 nodes near the poles and "
+               "the equator", "mpmath", np.abs(theta[ks] - exact).max(), 4 * EPS,
+               "max abs error in theta", "oracle: 40-digit Newton iteration in theta")
+        record(f"edges: ducc0's GL_thetas n = {n} (anchor check)", "mpmath",
+               np.abs(ducc0.misc.GL_thetas(n)[ks] - exact).max(), 4 * EPS,
                "max abs error in theta")

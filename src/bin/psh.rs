@@ -479,6 +479,9 @@ enum Eval {
     /// Normalized associated Legendre functions Pbar_lm(theta), m = 0..=l, at one degree l
     /// (PSH (1)), printing JSON.
     Legendre(LegendreArgs),
+    /// The Gauss-Legendre rule of n rings (psh::sh::GaussLegendre): polar angles theta_j
+    /// (increasing from the north pole) and weights w_j, printing JSON.
+    Grid(GridArgs),
     /// Scalar SH transform (psh::sh::ShTransform) on the Gauss-Legendre grid of
     /// lmax + 1 rings by 2 lmax + 2 meridians, .npy in and out.
     Sht(ShtArgs),
@@ -551,6 +554,13 @@ struct LegendreArgs {
     /// double-double path (for_each_column_accurate).
     #[arg(long)]
     fast: bool,
+}
+
+#[derive(Args)]
+struct GridArgs {
+    /// Number of rings, 1..=8193 (the grid of band limit 8192).
+    #[arg(long)]
+    n: usize,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -789,6 +799,7 @@ fn main() -> ExitCode {
         Command::Eval(Eval::SwshPoints(a)) => eval_swsh_points(&a),
         Command::Eval(Eval::ShDerivatives(a)) => eval_sh_derivatives(&a),
         Command::Eval(Eval::Legendre(a)) => eval_legendre(&a),
+        Command::Eval(Eval::Grid(a)) => eval_grid(&a),
         Command::Eval(Eval::Sht(a)) => eval_sht(&a),
         Command::Eval(Eval::SpinSht(a)) => eval_spin_sht(&a),
         Command::Eval(Eval::Fresnel(a)) => eval_fresnel(&a),
@@ -1653,6 +1664,24 @@ fn eval_sh_derivatives(a: &ShDerivativesArgs) -> psh::Result<serde_json::Value> 
         "lmax": a.lmax, "points": count, "output": a.output, "shape": shape,
         "hessian_entries": ["xx", "xy", "xz", "yy", "yz", "zz"],
     }))
+}
+
+fn eval_grid(a: &GridArgs) -> psh::Result<serde_json::Value> {
+    // At most the rings of the largest band limit; checked before the O(n^2) Newton
+    // iterations.
+    if a.n > psh::sh::MAX_DEGREE + 1 {
+        return Err(Error::InvalidArgument {
+            name: "n",
+            value: a.n.to_string(),
+            reason: format!(
+                "at most {} rings (the grid of band limit {})",
+                psh::sh::MAX_DEGREE + 1,
+                psh::sh::MAX_DEGREE
+            ),
+        });
+    }
+    let g = psh::sh::GaussLegendre::new(a.n)?;
+    Ok(json!({"n": a.n, "theta": g.theta, "weights": g.weights}))
 }
 
 fn eval_legendre(a: &LegendreArgs) -> psh::Result<serde_json::Value> {

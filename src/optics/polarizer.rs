@@ -45,7 +45,9 @@ impl LinearPolarizer {
     /// (after Wilkie & Weidlich 2012), i.e. the projector on the Stokes vector
     /// `(1, c, s, 0)` of light polarized along the axis, scaled by 1/2.
     pub fn mueller(&self) -> MuellerMatrix {
-        let (s, c) = (2.0 * self.angle).sin_cos();
+        // The axis is defined modulo pi: reducing first (exactly, by `rem_euclid`) keeps
+        // `2 varphi` finite for any finite angle (1e308 doubled overflowed to NaN entries).
+        let (s, c) = (2.0 * self.angle.rem_euclid(std::f64::consts::PI)).sin_cos();
         let m = 0.5
             * Matrix4::new(
                 1.0,
@@ -121,6 +123,17 @@ mod tests {
     fn ideal_polarizer_is_idempotent() {
         let m = LinearPolarizer::new(0.77).unwrap().mueller().matrix();
         assert!((m * m - m).amax() < 1e-16);
+    }
+
+    /// Any finite angle gives a projector: `2 varphi` of 1e308 overflowed to NaN entries
+    /// (and panicked in `mueller`) before the reduction modulo pi.
+    #[test]
+    fn huge_angles_are_projectors() {
+        for a in [1e308, -1e308, f64::MAX, 1e20, -3.0 * std::f64::consts::PI] {
+            let m = LinearPolarizer::new(a).unwrap().mueller().matrix();
+            assert!(m.iter().all(|x| x.is_finite()), "{a}");
+            assert!((m * m - m).amax() < 1e-15, "{a}");
+        }
     }
 
     #[test]
