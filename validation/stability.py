@@ -314,7 +314,7 @@ def legendre(cli, curves, lmax):
 
 
 def gl(cli, curves, sizes):
-    """Gauss-Legendre polar angles of n nodes (psh eval sht at L = n - 1, ducc0's
+    """Gauss-Legendre polar angles of n nodes (psh eval grid, ducc0's
     GL_thetas) against the mpmath Newton iteration at 4 nodes next to each pole and 2 at
     the equator; error / eps. "acos of the rounded node" is what computing the angle as
     acos of the exactly rounded cosine gives (psh's former route)."""
@@ -323,11 +323,7 @@ def gl(cli, curves, sizes):
               if 0 <= k < n]
         ks = sorted(set(ks))
         exact = oracles.gl_thetas(n, ks)
-        meta = cli.run("eval", "sht", "--kind", "real", "--lmax", n - 1, "--op", "synthesis",
-                       "--input", cli.save(np.zeros(n * n)),
-                       "--output", cli.tmp / "map.npy")["grid"]
-        (cli.tmp / "map.npy").unlink()
-        theta = np.array(meta["theta"])
+        theta = np.array(cli.run("eval", "grid", "--n", n)["theta"])
         with oracles.mp.workdps(40):
             x = [float(oracles.mp.cos(oracles.mp.mpf(t))) for t in exact]
         for k_set, case in [(ks, "nodes near the poles and the equator")]:
@@ -602,8 +598,8 @@ The run took {total:.0f} s ({", ".join(f"{k} {v:.0f} s" for k, v in seconds.item
 The default run (`validation/.venv/bin/python validation/stability.py`, about 3 minutes)
 stops at l = 1024 for Wigner D and the complex SH, l = 500 for the spin-weighted SH and
 n = 2048 for the grid; `--full` (about 9 minutes) takes the complex SH to l = 4096, the
-spin-weighted SH to 1024 and the grid to n = 8192 (one `psh eval sht` at L = 8191: a
-minute and 1.5 GB of temporary files). The
+spin-weighted SH to 1024 and the grid to n = 8192 (`psh eval grid --n 8192`, a second;
+CI checks n = 2048 and 8192 in `validation/test_edges.py`). The
 pass/fail checks of the same edges run in CI: `validation/test_edges.py` (CLI, in
 `bash validation/run.sh`, docs/validation.md) and `python/tests/test_edges.py` (the
 Python module).
@@ -722,7 +718,7 @@ it is documented as such and is not an evaluation path of a single value.
 ![Gauss-Legendre polar angles](stability/gl.png)
 
 Error in theta, absolute, over eps (bound 4: one ulp is 2 eps next to pi). psh's angles
-come from the grid of `psh eval sht` at L = n - 1; near the poles psh now runs its Newton
+come from `psh eval grid --n N`; near the poles psh now runs its Newton
 steps in theta with `P_n` in Reinsch's difference form in `1 - cos theta`
 (`proofs/quadrature.md`) rather than taking `acos` of the node: "acos of the rounded
 node" shows what even a correctly rounded `cos theta` loses that way (`eps / sin theta`:
