@@ -874,18 +874,15 @@ fn eval_legendre_both_paths() {
 #[test]
 fn eval_grid_prints_the_gauss_legendre_rule() {
     let v = psh_json(&["eval", "grid", "--n", "5"]);
-    let theta: Vec<f64> = v["theta"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect();
-    let weights: Vec<f64> = v["weights"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect();
+    let floats = |key: &str| -> Vec<f64> {
+        v[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let (theta, weights) = (floats("theta"), floats("weights"));
     let (a, b) = (
         (5.0 - 2.0 * (10.0f64 / 7.0).sqrt()).sqrt() / 3.0,
         (5.0 + 2.0 * (10.0f64 / 7.0).sqrt()).sqrt() / 3.0,
