@@ -23,7 +23,7 @@ use std::time::Instant;
 
 const SETTINGS: TransferSettings = TransferSettings {
     l_low: 6,
-    l_high: 0,
+    l_high: None,
     rays: 64,
     visibility: psh::pprt::Visibility::Rays,
 };

@@ -20,7 +20,7 @@ fn pprt(c: &mut Criterion) {
     let (scene, _) = load_scene(scene_file, 9).unwrap();
     let settings = TransferSettings {
         l_low: 4,
-        l_high: 9,
+        l_high: Some(9),
         rays: 2000,
         visibility: psh::pprt::Visibility::Rays,
     };

@@ -11,6 +11,7 @@
 //! | module | what | feature |
 //! |---|---|---|
 //! | [`error`], [`random`], [`progress`] | `psh::Error`; the deterministic generator; progress reports | |
+//! | [`budget`], [`names`] | the memory budget; named choices (`Window`, `Sun`, ...: [`named_enum!`]) | |
 //! | [`geometry`] | directions, rotations, frames and frame fields, pixel grids | |
 //! | [`sh`] | Legendre, real and complex SH, Wigner D, transforms, 3j and Gaunt, zonal and solid SH | |
 //! | [`swsh`] | spin-weighted SH and spin-s transforms | |
@@ -89,7 +90,7 @@ pub mod error;
 pub use error::{Error, Result};
 #[cfg(feature = "exact")]
 pub mod exact;
-#[cfg(feature = "verify")]
+#[cfg(all(feature = "apps", feature = "verify"))]
 pub mod figures;
 pub mod geometry;
 #[cfg(feature = "io")]
@@ -97,6 +98,7 @@ pub mod io;
 pub mod isd;
 pub mod lights;
 pub mod map;
+pub mod names;
 pub mod optics;
 pub mod polarized;
 #[cfg(feature = "render")]

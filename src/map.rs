@@ -139,6 +139,32 @@ impl FrameField for MapFrameField {
 
 /// A polarized map: per channel (e.g. R, G, B), the Stokes components `[s0, s1, s2, s3]`
 /// of every texel (row-major) in the layout's [`MapFrameField`].
+///
+/// # Example
+///
+/// A band-limited field reconstructed on an equirectangular map (PSH (30)) and projected
+/// back (PSH (32)) returns its coefficients up to the texel quadrature error.
+///
+/// ```
+/// use psh::map::{MapLayout, StokesMap};
+/// use psh::polarized::{Codomain, PshVector};
+///
+/// // Flat layout `[(l*l + l + m) * 4 + p]`: f_000 = 1, f_{2,0,1} = 0.3, f_{2,2,2} = -0.2,
+/// // f_{1,-1,3} = 0.1.
+/// let mut data = vec![0.0; 9 * 4];
+/// data[0] = 1.0;
+/// data[6 * 4 + 1] = 0.3;
+/// data[8 * 4 + 2] = -0.2;
+/// data[1 * 4 + 3] = 0.1;
+/// let v = PshVector::from_data(2, Codomain::Full, 1, data)?;
+///
+/// let map = StokesMap::reconstruct(&v, MapLayout::from_image_size(32, 64)?)?;
+/// assert_eq!((map.channels().len(), map.channels()[0].len()), (1, 32 * 64));
+/// let back = map.project(Codomain::Full, 2)?;
+/// let err = v.data().iter().zip(back.data()).fold(0.0f64, |e, (a, b)| e.max((a - b).abs()));
+/// assert!(err < 5e-3, "{err}");
+/// # Ok::<(), psh::Error>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct StokesMap {
     layout: MapLayout,

@@ -1088,7 +1088,7 @@ fn eval_fresnel_and_polarizer() {
     let bad = psh(&["eval", "fresnel", "--n", "1.5", "--cos-i", "1.5"]);
     assert_eq!(bad.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("cos_theta_i"));
-    let v = psh_json(&["eval", "polarizer", "--angle", "0"]);
+    let v = psh_json(&["eval", "polarizer", "--angle-deg", "0"]);
     let expect = [
         [0.5, 0.5, 0.0, 0.0],
         [0.5, 0.5, 0.0, 0.0],

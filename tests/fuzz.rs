@@ -1325,7 +1325,7 @@ const TEMPLATES: &[&[&str]] = &[
     &[
         "eval", "fresnel", "--n", "1.5", "--k", "0.1", "--cos-i", "0.2,0.9",
     ],
-    &["eval", "polarizer", "--angle", "0.3"],
+    &["eval", "polarizer", "--angle-deg", "17"],
     &[
         "project",
         "{dir}/map_s%d.exr",
@@ -1462,7 +1462,7 @@ const FLAGS: &[&str] = &[
     "--n",
     "--k",
     "--cos-i",
-    "--angle",
+    "--angle-deg",
     "--fast",
     "--json",
     "--filter",

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 /// other nor anything above.
 const LAYERS: &[&[&str]] = &[
     &["error", "random", "progress"],
-    &["budget"],
+    &["budget", "names"],
     &["geometry"],
     &["sh"],
     &["swsh"],
@@ -25,16 +25,17 @@ const LAYERS: &[&[&str]] = &[
     &["pprt"],
     &["io"],
     &["exact"],
-    &["apps"],
     &["testing"],
-    &["verify"],
+    &["apps", "verify"],
     &["figures"],
 ];
 
 fn layer_of(module: &str) -> Option<usize> {
-    // `crate::Error` and `crate::Result` are `error`'s, re-exported at the root.
+    // `crate::Error` and `crate::Result` are `error`'s, re-exported at the root;
+    // `crate::named_enum!` is `names`' (exported at the root, as macros are).
     let module = match module {
         "Error" | "Result" => "error",
+        "named_enum" => "names",
         m => m,
     };
     LAYERS.iter().position(|l| l.contains(&module))

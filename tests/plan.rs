@@ -11,7 +11,7 @@ use psh::verify::{tangent_plane_vs_rays, unpolarized_vs_full};
 fn settings(l_low: usize, l_high: usize, rays: usize) -> TransferSettings {
     TransferSettings {
         l_low,
-        l_high,
+        l_high: psh::pprt::high_orders_from_number(l_high),
         rays,
         visibility: psh::pprt::Visibility::Rays,
     }

@@ -18,7 +18,7 @@ fn check(shadows: bool) {
     let scene = builtin_scene(l, 8, 6).unwrap();
     let settings = TransferSettings {
         l_low: l,
-        l_high: 0,
+        l_high: None,
         rays: 64,
         visibility: if shadows {
             Visibility::Rays
@@ -107,6 +107,7 @@ fn pprt_equals_direct_integration_with_shadows() {
 #[test]
 fn scene_files_render_and_bad_ones_are_errors() {
     use psh::apps::render_job::render_job;
+    use psh::apps::ValidRange;
     use psh::io::load_scene;
     let dir = std::env::temp_dir().join(format!("psh-scene-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -173,7 +174,7 @@ material = "gold"
         Planning::Tolerance(1e-3),
         &[0.0, 90.0],
         &dir.join("out"),
-        false,
+        ValidRange::Keep,
         &psh::progress::Silent,
     )
     .unwrap();
@@ -247,7 +248,7 @@ material = "gold"
         ),
     ];
     let mut bad = settings;
-    bad.l_high = 2;
+    bad.l_high = Some(2);
     let e = psh::pprt::precompute(&scene, bad).unwrap_err().to_string();
     assert!(e.contains("l_high 2"), "{e}");
     for (k, (text, what)) in cases.iter().enumerate() {
@@ -300,7 +301,7 @@ fn rotating_everything_together_leaves_the_image_unchanged() {
     .unwrap();
     let settings = TransferSettings {
         l_low: l,
-        l_high: 0,
+        l_high: None,
         rays: 1,
         visibility: psh::pprt::Visibility::Off,
     };
@@ -374,11 +375,12 @@ fn the_background_is_the_environment_itself() {
 #[test]
 fn the_valid_range_projection_leaves_no_unphysical_pixel() {
     use psh::apps::render_job::render_job;
+    use psh::apps::ValidRange;
     use psh::pprt::UnphysicalPixels;
     let dir = std::env::temp_dir().join(format!("psh_valid_range_{}", std::process::id()));
     let scene = builtin_scene(9, 64, 48).unwrap();
     let settings = TransferSettings::default();
-    let job = |valid: bool, name: &str| {
+    let job = |valid: ValidRange, name: &str| {
         render_job(
             &scene,
             settings,
@@ -390,7 +392,10 @@ fn the_valid_range_projection_leaves_no_unphysical_pixel() {
         )
         .unwrap()
     };
-    let ((raw_report, raw), (valid_report, valid)) = (job(false, "raw"), job(true, "valid"));
+    let ((raw_report, raw), (valid_report, valid)) = (
+        job(ValidRange::Keep, "raw"),
+        job(ValidRange::Project, "valid"),
+    );
     let counted = raw.unphysical();
     assert_eq!(raw_report.unphysical_pixels, counted);
     assert_eq!(valid_report.unphysical_pixels, counted);
@@ -488,7 +493,7 @@ fn camera_roll_turns_s1_s2_as_psh_14() {
     let mut scene = builtin_scene(6, 16, 16).unwrap();
     let settings = TransferSettings {
         l_low: 4,
-        l_high: 6,
+        l_high: Some(6),
         rays: 64,
         visibility: psh::pprt::Visibility::Rays,
     };
@@ -540,7 +545,7 @@ fn ablation_writes_three_variants_side_by_side() {
     let scene = builtin_scene(5, 30, 20).unwrap();
     let settings = TransferSettings {
         l_low: 3,
-        l_high: 5,
+        l_high: Some(5),
         rays: 32,
         visibility: psh::pprt::Visibility::Rays,
     };
@@ -594,7 +599,7 @@ fn mismatched_runtime_inputs_are_errors() {
     let scene = builtin_scene(3, 8, 6).unwrap();
     let settings = TransferSettings {
         l_low: 3,
-        l_high: 0,
+        l_high: None,
         rays: 1,
         visibility: psh::pprt::Visibility::Off,
     };
@@ -735,7 +740,7 @@ fn a_frame_reads_only_the_vertices_it_sees_on_any_thread_count() {
     let scene = builtin_scene(6, 40, 30).unwrap();
     let settings = TransferSettings {
         l_low: 3,
-        l_high: 6,
+        l_high: Some(6),
         rays: 32,
         visibility: psh::pprt::Visibility::Rays,
     };

@@ -89,7 +89,7 @@ fn bench_error_takes_an_outside_ground_truth() {
     let scene = builtin_scene(3, 20, 15).unwrap();
     let settings = psh::pprt::TransferSettings {
         l_low: 3,
-        l_high: 0,
+        l_high: None,
         rays: 16,
         visibility: psh::pprt::Visibility::Rays,
     };

@@ -73,7 +73,7 @@ def test_linear_polarizer(psh, record):
     turn from x towards y; no change of sign."""
     worst = 0.0
     for phi in [0.0, 0.3, np.pi / 4, 1.0, np.pi / 2, 2.5, -0.7]:
-        got = np.array(psh.run("eval", "polarizer", "--angle", repr(float(phi)))["mueller"])
+        got = np.array(psh.run("eval", "polarizer", "--angle-deg", repr(float(np.degrees(phi))))["mueller"])
         ref = np.array(mi.mueller.rotated_element(phi, mi.mueller.linear_polarizer(1.0)))
         worst = max(worst, np.abs(got - ref).max())
     # float32 sines and cosines of 2 phi and their products: measured 4.4e-8

@@ -4,9 +4,12 @@
 use crate::arrays::{checked_len, owned};
 use crate::errors::IntoPy;
 use numpy::PyArrayDyn;
-use psh::pprt::Planning;
+use psh::apps::{ImageSize, RenderJob, Shadows, ValidRange};
+use psh::pprt::{high_orders_from_number, Planning, Sun};
+use psh::sh::Window;
 use pyo3::prelude::*;
 use pyo3::types::PyAny;
+use std::path::PathBuf;
 
 /// `value` (serializable) as Python objects via JSON.
 fn to_python<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bound<'py, PyAny>> {
@@ -17,24 +20,25 @@ fn to_python<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bo
 /// Renders a scene by precomputed polarized radiance transfer (PSH Sec. 7) into `out`
 /// (pictures, EXR files and `report.json`, as `psh render`): the TOML scene file `scene`,
 /// or the built-in scene at `width x height`; `l_low`, `l_high`, `rays` override the
-/// scene's settings, `shadows=False` turns visibility off, `tolerance` plans what the
-/// scene needs (`None`: compute everything), `valid_range=True` (the default, as `psh render`)
-/// projects every pixel onto the physically valid range PSH (70) (PSH Fig. 22; `False`
-/// keeps the transport's vectors), `window` ("none", "hann",
-/// "lanczos") tapers the environment's band limit, `sun` ("lobe", "directional") says how
-/// the analytic sky carries its sun (the scene's by default). Returns `(stokes, report)`: the image
+/// scene's settings (`l_high=0`: no high orders), `shadows=False` turns visibility off,
+/// `tolerance` plans what the scene needs (`None`: compute everything),
+/// `valid_range=True` projects every pixel onto the physically valid range PSH (70) (PSH
+/// Fig. 22; `False` keeps the transport's vectors), `window` ("none", "hann", "lanczos")
+/// tapers the environment's band limit, `sun` ("lobe", "directional") says how the
+/// analytic sky carries its sun (the scene's by default). The defaults are `psh
+/// render`'s (`psh::apps::RenderJob::default`). Returns `(stokes, report)`: the image
 /// `(3, height, width, 4)` (RGB, Stokes components in the camera's frames, row 0 at the
 /// top) and the report as a dict.
 #[pyfunction]
-#[pyo3(signature = (scene = None, out = std::path::PathBuf::from("psh-out"), width = 480, height = 360,
-    l_low = None, l_high = None, rays = None, shadows = true, tolerance = Some(1e-3),
-    polarizers = vec![0.0, 45.0, 90.0, 135.0], valid_range = true,
-    window = "none".to_string(), sun = None))]
+#[pyo3(signature = (scene = None, out = PathBuf::from(RenderJob::OUT), width = ImageSize::RENDER.width,
+    height = ImageSize::RENDER.height, l_low = None, l_high = None, rays = None, shadows = true,
+    tolerance = Some(RenderJob::TOLERANCE), polarizers = RenderJob::POLARIZERS_DEG.to_vec(),
+    valid_range = true, window = Window::None.name().to_string(), sun = None))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
-    scene: Option<std::path::PathBuf>,
-    out: std::path::PathBuf,
+    scene: Option<PathBuf>,
+    out: PathBuf,
     width: usize,
     height: usize,
     l_low: Option<usize>,
@@ -48,32 +52,31 @@ fn render<'py>(
     sun: Option<String>,
 ) -> PyResult<(Bound<'py, PyArrayDyn<f64>>, Bound<'py, PyAny>)> {
     checked_len("image", &[3, width, height, 4])?;
-    let planning = tolerance.map_or(Planning::Full, Planning::Tolerance);
+    let mut job = RenderJob::default();
+    job.scene.file = scene;
+    job.scene.size = ImageSize { width, height };
+    job.scene.window = Window::from_name(&window).py_err()?;
+    job.scene.sun = sun.as_deref().map(Sun::from_name).transpose().py_err()?;
+    job.l_low = l_low;
+    job.l_high = l_high.map(high_orders_from_number);
+    job.rays = rays;
+    job.shadows = if shadows {
+        Shadows::AsScene
+    } else {
+        Shadows::Off
+    };
+    job.planning = tolerance.map_or(Planning::Full, Planning::Tolerance);
+    job.valid_range = if valid_range {
+        ValidRange::Project
+    } else {
+        ValidRange::Keep
+    };
+    job.polarizers_deg = polarizers;
+    job.out = out;
     let (report, image) = py
-        .detach(|| {
-            let (scene, settings, _) = psh::apps::render_job::job_scene(
-                scene.as_deref(),
-                (width, height),
-                &psh::apps::render_job::SceneOverrides {
-                    l_low,
-                    l_high,
-                    rays,
-                    shadows,
-                    window: psh::sh::Window::from_name(&window)?,
-                    sun: sun.as_deref().map(psh::pprt::Sun::from_name).transpose()?,
-                },
-            )?;
-            psh::apps::render_job::render_job(
-                &scene,
-                settings,
-                planning,
-                &polarizers,
-                &out,
-                valid_range,
-                &psh::progress::Silent,
-            )
-        })
+        .detach(|| job.load()?.run(&psh::progress::Silent))
         .py_err()?;
+    let image = image.ok_or_else(|| crate::errors::bad("render", "the job rendered no image"))?;
     let data: Vec<f64> = image.channels.iter().flatten().flatten().copied().collect();
     let stokes = owned(
         py,

@@ -63,13 +63,21 @@ pub fn ground_truth_image(
 /// One row of `bench-error.json` (the contract).
 #[derive(Clone, Debug, Serialize)]
 pub struct Row {
+    /// `"pprt"` or `"reference"`.
     pub method: &'static str,
+    /// PPRT's `"full"`, `"no_shadow"` or `"low_only"` ([`bench_error`]'s settings); the
+    /// reference's `"exact"` or `"band_limited_env"` (the environment cut at `l_max`: the
+    /// band-limit floor).
     pub setting: &'static str,
+    /// Band limit of a PPRT row and of the band-limit floor; `None` for an `exact` row.
     pub l_max: Option<usize>,
+    /// Samples per pixel of a reference row; `None` for PPRT.
     pub spp: Option<usize>,
+    /// Seconds of PPRT's plan and transfer precomputation; 0 for the reference.
     pub precompute_s: f64,
     /// Seconds per frame: PPRT's the median of [`PPRT_FRAMES`], the reference's one run.
     pub frame_s: f64,
+    /// RMSE of `s0..s3` against the ground truth (the module's convention).
     pub rmse: [f64; 4],
 }
 
@@ -78,10 +86,14 @@ pub struct Row {
 pub struct BenchErrorReport {
     /// "psh reference" at `ground_truth_spp`, or "outside image" ([`BenchErrorOptions::ground_truth`]).
     pub ground_truth: &'static str,
+    /// Samples per pixel of psh's ground truth and of the `band_limited_env` row.
     pub ground_truth_spp: usize,
+    /// Seconds of rendering the ground truth; 0 for an outside image.
     pub ground_truth_s: f64,
     /// Width and height in pixels.
     pub image: [usize; 2],
+    /// PPRT at `l = 2..=l_max` (each setting), the reference's sample ladder, then the
+    /// band-limit floor.
     pub rows: Vec<Row>,
     /// `None` (JSON `null`) without a PPRT `full` row at `l_max` or two reference rows.
     pub speedup_at_equal_rmse: Option<Speedup>,
@@ -90,10 +102,16 @@ pub struct BenchErrorReport {
 /// The reference's frame time at PPRT `full`'s total RMSE at `l_max` over PPRT's.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct Speedup {
+    /// PPRT's band limit (`l_max`).
     pub pprt_l_max: usize,
+    /// PPRT `full`'s total RMSE at it ([`Row::total`]).
     pub pprt_rmse: f64,
+    /// PPRT's seconds per frame.
     pub pprt_frame_s: f64,
+    /// The reference's seconds per frame at that RMSE, by log-log interpolation along its
+    /// sample ladder.
     pub reference_frame_s: f64,
+    /// `reference_frame_s / pprt_frame_s`.
     pub ratio: f64,
     /// Whether the reference's time was extrapolated beyond its sample ladder.
     pub extrapolated: bool,
@@ -111,7 +129,7 @@ impl Row {
 /// orders, shadows).
 fn pprt_settings(setting: &str, l: usize, rays: usize) -> TransferSettings {
     let l_low = l.min(4);
-    let high = if l > l_low { l } else { 0 };
+    let high = (l > l_low).then_some(l);
     match setting {
         "no_shadow" => TransferSettings {
             l_low,
@@ -121,7 +139,7 @@ fn pprt_settings(setting: &str, l: usize, rays: usize) -> TransferSettings {
         },
         "low_only" => TransferSettings {
             l_low: l,
-            l_high: 0,
+            l_high: None,
             rays,
             visibility: Visibility::Rays,
         },

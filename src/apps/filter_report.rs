@@ -20,13 +20,50 @@ use crate::apps::plot::{Axis, LinePlot, Series};
 use crate::error::Result;
 use crate::io::io_error;
 use crate::io::write_text;
-use crate::optics::filter_table::{
-    error_summary, psi_curves, sample_degrees, ErrorSummary, PsiCurve, SpecularSource,
-    ERROR_LIMITS_DEGREES, SAMPLES,
+use crate::optics::{
+    psi_curves, sample_degrees, Channel, Material, MaxError, PsiCurve, SpecularSource, SAMPLES,
 };
-use crate::optics::{Channel, Material};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+
+/// The angles (degrees) at which the largest errors are reported.
+pub const ERROR_LIMITS_DEGREES: [f64; 2] = [60.0, 89.0];
+
+/// The largest errors of one material and channel, up to each of
+/// [`ERROR_LIMITS_DEGREES`], with `psi~` fed by both [`SpecularSource`]s.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ErrorSummary {
+    /// The material (a row of PF Table 1).
+    pub material: Material,
+    /// The colour channel.
+    pub channel: Channel,
+    /// `R_0` by PF (3) from the table's `n`, `k`.
+    pub r0_ior: f64,
+    /// `R_0` as printed.
+    pub r0_printed: f64,
+    /// With `R_0` from PF (3), up to 60 and 89 degrees.
+    pub from_ior: [MaxError; 2],
+    /// With the printed `R_0`, up to 60 and 89 degrees.
+    pub printed: [MaxError; 2],
+}
+
+/// The [`ErrorSummary`] of every material and channel, in the table's order.
+pub fn error_summary() -> Result<Vec<ErrorSummary>> {
+    let ior = psi_curves(SpecularSource::FromIor)?;
+    let printed = psi_curves(SpecularSource::Printed)?;
+    Ok(ior
+        .iter()
+        .zip(&printed)
+        .map(|(a, b)| ErrorSummary {
+            material: a.material,
+            channel: a.channel,
+            r0_ior: a.r0,
+            r0_printed: b.r0,
+            from_ior: ERROR_LIMITS_DEGREES.map(|l| a.max_error(l)),
+            printed: ERROR_LIMITS_DEGREES.map(|l| b.max_error(l)),
+        })
+        .collect())
+}
 
 /// Plot size in pixels.
 const PLOT_SIZE: (usize, usize) = (720, 480);

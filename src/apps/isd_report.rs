@@ -49,26 +49,37 @@ const PLOT_SIZE: (usize, usize) = (720, 480);
 /// One condition number of ISD Fig. 13.
 #[derive(Clone, Debug)]
 pub struct Conditioning {
+    /// The mother function's profile.
     pub profile: Profile,
+    /// The direction pattern.
     pub pattern: Pattern,
+    /// Per-band or shared directions.
     pub sharing: Sharing,
+    /// The band limit `L`.
     pub lmax: usize,
+    /// The 2-norm condition number of `M` (ISD (17)); infinite when singular.
     pub condition: f64,
 }
 
 /// One timing: microseconds per filtered value.
 #[derive(Clone, Debug)]
 pub struct Timing {
+    /// The band limit `L`.
     pub lmax: usize,
+    /// Microseconds per value by ISD (6) (RZH, shared Fibonacci directions).
     pub isd_us: f64,
+    /// Microseconds per value by SH rotation plus dot product ([`sh_rotate_dot`]).
     pub sh_us: f64,
 }
 
 /// What `psh isd-report` wrote.
 #[derive(Clone, Debug)]
 pub struct IsdReport {
+    /// Every file written: `condition.csv`, the plots, `timing.csv`.
     pub files: Vec<PathBuf>,
+    /// Every condition number, by profile, pattern, sharing and band limit.
     pub conditioning: Vec<Conditioning>,
+    /// One timing per band limit of [`TIMING_LMAX`] up to the report's top.
     pub timings: Vec<Timing>,
 }
 

@@ -1,15 +1,15 @@
-//! `psh lights-demo`: the procedural many-light scene of [`crate::apps::light_scene`] with
+//! `psh lights-demo`: the procedural many-light scene of [`crate::lights::light_scene`] with
 //! uniform grids and a Hessian-adaptive grid (SHH Sec. 5, 6.2), compared by construction
 //! time and by the interpolation error against the per-point exact coefficients (a table
 //! like SHH Table 2), with false-colour error images of the floor.
 
-use crate::apps::light_scene::{demo_scene, exact_coefficients, grid_errors, Scene};
 use crate::error::Result;
 use crate::io::io_error;
 use crate::io::png::{diverging, write_png_with_legend};
 use crate::io::Legend;
 use crate::lights::grid::{Lattice, LightGrid, Metric, Refinement};
 use crate::lights::spherical::SphericalLights;
+use crate::lights::{exact_coefficients, grid_errors, light_scene, LightScene};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -23,6 +23,7 @@ pub const DEMO_THRESHOLD: f64 = 0.3;
 /// One row of the table.
 #[derive(Clone, Debug)]
 pub struct DemoRow {
+    /// The grid: `uniform <2^N>^3` or `adaptive (E_abs <= <threshold>)`.
     pub grid: String,
     /// Finest level `N` (`2^N` cells per axis).
     pub level: u32,
@@ -41,13 +42,17 @@ pub struct DemoRow {
 /// The demo's results.
 #[derive(Clone, Debug)]
 pub struct DemoReport {
+    /// Spherical lights in the scene (near and far).
     pub lights: usize,
+    /// Shading points on the floor.
     pub shading_points: usize,
     /// Time of the per-point exact coefficients (ms).
     pub reference_ms: f64,
+    /// The uniform grids by level, then the adaptive grid.
     pub rows: Vec<DemoRow>,
     /// Index of the uniform row closest in construction time to the adaptive grid.
     pub equal_time: usize,
+    /// Every file written: the error images, then `table.md`.
     pub files: Vec<PathBuf>,
 }
 
@@ -80,7 +85,7 @@ fn row(
     level: u32,
     grid: &LightGrid,
     time_ms: f64,
-    scene: &Scene,
+    scene: &LightScene,
     exact: &[Vec<f64>],
     peak: f64,
 ) -> Result<(DemoRow, Vec<f64>)> {
@@ -133,7 +138,7 @@ pub(crate) fn error_image(
 /// `error_uniform_N<level>.png` into `out` (created if missing).
 pub fn write_lights_demo(out: &Path) -> Result<DemoReport> {
     std::fs::create_dir_all(out).map_err(|e| io_error(out, e))?;
-    let scene = demo_scene(96, 24, 40, 3)?;
+    let scene = light_scene(96, 24, 40, 3)?;
     let lights = SphericalLights::new(scene.lights.clone(), DEMO_LMAX)?;
     let t0 = Instant::now();
     let exact = exact_coefficients(&lights, &scene.points)?;

@@ -3,24 +3,27 @@
 //!
 //! | module | what | source |
 //! |---|---|---|
-//! | [`render_job`] | the render job (`cargo run --release`, `psh render`) | PSH Sec. 7 |
+//! | [`render_settings`] | a render job's settings and their defaults ([`RenderJob`], [`SceneSetup`]) | |
+//! | [`render_job`](mod@render_job) | the render job (`cargo run --release`, `psh render`) | PSH Sec. 7 |
+//! | [`render_report`], [`render_pictures`] | its reports and pictures | PSH Sec. 7 |
 //! | [`bench_error`] | run time against error (`psh bench-error`) | PSH Fig. 19 |
-//! | [`figure10`] | the rotation coefficient matrices of PSH Fig. 10 | PSH Fig. 10 |
 //! | [`filter_report`] | the polarizing filter report (`psh filter-report`) | PF |
 //! | [`isd_report`] | the ISD report (`psh isd-report`) | ISD Sec. 7 |
-//! | [`light_scene`] | a procedural many-light scene | SHH Sec. 6.2 |
 //! | [`lights_demo`] | adaptive light grids (`psh lights-demo`) | SHH Fig. 2 |
-//! | [`polygon_scene`] | a procedural polygonal-light scene | SHG |
 //! | [`polygon_lights_demo`] | polygonal lights on grids (`psh polygon-lights-demo`) | SHG |
 //! | [`plot`] | line plots as PNG | |
 
 pub mod bench_error;
-pub mod figure10;
 pub mod filter_report;
 pub mod isd_report;
-pub mod light_scene;
 pub mod lights_demo;
 pub mod plot;
 pub mod polygon_lights_demo;
-pub mod polygon_scene;
 pub mod render_job;
+pub mod render_pictures;
+pub mod render_report;
+pub mod render_settings;
+
+pub use render_job::{ablation_job, reference_job, render_job, JobReport, LoadedJob};
+pub use render_report::{AblationReport, ReferenceReport, RenderReport};
+pub use render_settings::{ImageSize, RenderJob, Renderer, SceneSetup, Shadows, ValidRange};

@@ -13,9 +13,13 @@ use std::path::Path;
 /// non-finite point, or one outside a logarithmic axis, breaks the line).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Series {
+    /// The legend's text for the line.
     pub label: String,
+    /// Line colour, 8-bit RGB.
     pub color: [u8; 3],
+    /// Dashed rather than solid.
     pub dashed: bool,
+    /// The points `(x, y)` in data units, drawn in order.
     pub points: Vec<(f64, f64)>,
 }
 
@@ -23,8 +27,11 @@ pub struct Series {
 /// logarithmic.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Axis {
+    /// The axis title, with units.
     pub label: String,
+    /// `(lo, hi)` in data units.
     pub range: (f64, f64),
+    /// Logarithmic (`range` positive) rather than linear.
     pub log: bool,
 }
 

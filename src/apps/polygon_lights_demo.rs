@@ -1,16 +1,16 @@
 //! `psh polygon-lights-demo`: many triangular lights over a floor
-//! ([`crate::apps::polygon_scene`]); per-vertex exact coefficients (SHG (4)-(5)) against
+//! ([`crate::lights::polygon_scene`]); per-vertex exact coefficients (SHG (4)-(5)) against
 //! uniform grids of coefficients and gradients (SHG (6)) interpolated trilinearly, by the
 //! zero-cross-derivative Hermite and by the cubic Hermite serendipity interpolant:
 //! errors and times (a table like SHG Sec. 7), with false-colour error images.
 
-use crate::apps::light_scene::{exact_coefficients, grid_errors_with};
 use crate::apps::lights_demo::{error_image, write_table};
-use crate::apps::polygon_scene::demo_scene;
 use crate::error::Result;
 use crate::io::io_error;
 use crate::lights::grid::{Interpolation, Lattice, LightGrid, Refinement};
 use crate::lights::polygon::PolygonalLights;
+use crate::lights::polygon_scene;
+use crate::lights::{exact_coefficients, grid_errors_with};
 use crate::progress::Progress;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -24,6 +24,7 @@ pub const DEMO_LMAX: usize = 8;
 /// One row of the table.
 #[derive(Clone, Debug)]
 pub struct DemoRow {
+    /// The interpolant of the grid's coefficients and gradients.
     pub interpolation: Interpolation,
     /// Finest level `N` (`2^N` cells per axis).
     pub level: u32,
@@ -42,11 +43,15 @@ pub struct DemoRow {
 /// The demo's results.
 #[derive(Clone, Debug)]
 pub struct DemoReport {
+    /// Polygonal lights in the scene (near triangles and walls).
     pub lights: usize,
+    /// Shading points on the floor.
     pub shading_points: usize,
     /// Time of the per-point exact coefficients (ms).
     pub reference_ms: f64,
+    /// By level, then by interpolation (trilinear, Hermite, serendipity).
     pub rows: Vec<DemoRow>,
+    /// Every file written: the error images of the finest level, then `table.md`.
     pub files: Vec<PathBuf>,
 }
 
@@ -84,7 +89,7 @@ pub fn write_polygon_lights_demo(
     progress: &dyn Progress,
 ) -> Result<DemoReport> {
     std::fs::create_dir_all(out).map_err(|e| io_error(out, e))?;
-    let scene = demo_scene(64, 48, 7)?;
+    let scene = polygon_scene(64, 48, 7)?;
     let lights =
         PolygonalLights::new(scene.lights.clone(), DEMO_LMAX)?.with_horizon(scene.normal)?;
     let levels = 2..=finest.max(2);

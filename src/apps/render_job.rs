@@ -2,93 +2,96 @@
 //! component, degree and angle of polarization, images through polarizers) and
 //! `report.json` with the time of every stage, the counts and the settings.
 
+use super::render_pictures::{write_pictures, CAMERA_NOTES};
+use super::render_report::{
+    AblationReport, AblationVariant, Counts, PlanReport, ReferenceReport, RenderReport,
+    ReportSettings, Times,
+};
+use super::render_settings::{RenderJob, Renderer, ValidRange};
 use crate::error::{Error, Result};
-use crate::io::exr::write_stokes_image;
-use crate::io::png::{srgb8, write_png_with_legend, write_stokes_pngs, PictureNotes};
-use crate::io::{tick_label, Legend};
-use crate::polarized::SparsePshMatrix;
+use crate::io::png::{write_stokes_pngs, PictureNotes};
 use crate::pprt::plan::Plan;
 use crate::pprt::reference::{Fidelity, Reference, ReferenceSettings};
-use crate::pprt::render::{
-    direct_light, primary_hits, render_frame, StokesImage, UnphysicalPixels,
-};
+use crate::pprt::render::{direct_light, primary_hits, render_frame, StokesImage};
 use crate::pprt::scene::Scene;
-use crate::pprt::settings::{Planning, TransferSettings, Visibility};
+use crate::pprt::settings::{high_orders_number, Planning, TransferSettings, Visibility};
 use crate::pprt::transfer::precompute_planned;
 use crate::pprt::Sun;
 use crate::progress::Progress;
-use crate::sh::Window;
 use serde::Serialize;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
-/// What a render job changes of a scene: band limits and rays where given, shadows off
-/// when `shadows` is false, the environment's window, and the sky's sun where given.
-#[derive(Clone, Copy, Debug)]
-pub struct SceneOverrides {
-    pub l_low: Option<usize>,
-    pub l_high: Option<usize>,
-    pub rays: Option<usize>,
-    pub shadows: bool,
-    pub window: Window,
-    pub sun: Option<Sun>,
+/// A render job with its scene loaded and its settings checked: what it will render.
+pub struct LoadedJob<'a> {
+    /// The job.
+    pub job: &'a RenderJob,
+    /// Its scene (environment projected to [`TransferSettings::environment_lmax`]).
+    pub scene: Scene,
+    /// Its transfer settings.
+    pub settings: TransferSettings,
+    /// The scene's name for messages (the file, or "the built-in scene").
+    pub name: String,
 }
 
-impl Default for SceneOverrides {
-    /// Nothing changed: the scene's own settings, shadows on, no window.
-    fn default() -> Self {
-        Self {
-            l_low: None,
-            l_high: None,
-            rays: None,
-            shadows: true,
-            window: Window::None,
-            sun: None,
-        }
+/// What a render job wrote, by renderer (`report.json`, `ablation.json` or
+/// `reference.json`).
+#[derive(Clone, Debug, Serialize)]
+#[serde(untagged)]
+pub enum JobReport {
+    /// [`Renderer::Pprt`]'s.
+    Render(Box<RenderReport>),
+    /// [`Renderer::Ablation`]'s.
+    Ablation(AblationReport),
+    /// [`Renderer::Reference`]'s.
+    Reference(ReferenceReport),
+}
+
+impl RenderJob {
+    /// The job's scene and settings ([`RenderJob::settings`], checked first, then
+    /// [`SceneSetup::load`](super::render_settings::SceneSetup::load) at the settings'
+    /// band limit).
+    pub fn load(&self) -> Result<LoadedJob<'_>> {
+        let settings = self.settings()?;
+        let (scene, name) = self.scene.load(settings.environment_lmax())?;
+        Ok(LoadedJob {
+            job: self,
+            scene,
+            settings,
+            name,
+        })
     }
 }
 
-/// The scene and settings of a render job: the TOML scene file `scene` (its settings),
-/// or the built-in scene at `size` (width, height) with the default settings, changed
-/// as `overrides` say. The settings are checked ([`TransferSettings::check`]) before the
-/// scene is loaded or its environment projected. Returns also the scene's name for
-/// messages. Error: a sun asked of a scene without the analytic sky.
-pub fn job_scene(
-    scene: Option<&Path>,
-    size: (usize, usize),
-    overrides: &SceneOverrides,
-) -> Result<(Scene, TransferSettings, String)> {
-    let file_settings = match scene {
-        Some(path) => crate::io::scene_settings(path)?,
-        None => TransferSettings::default(),
-    };
-    let settings = TransferSettings {
-        l_low: overrides.l_low.unwrap_or(file_settings.l_low),
-        l_high: overrides.l_high.unwrap_or(file_settings.l_high),
-        rays: overrides.rays.unwrap_or(file_settings.rays),
-        visibility: if overrides.shadows {
-            file_settings.visibility
-        } else {
-            Visibility::Off
-        },
-    };
-    settings.check()?;
-    let lmax = settings.l_high.max(settings.l_low);
-    let (scene, name) = match scene {
-        Some(path) => (
-            crate::io::load_scene(path, lmax)?.0,
-            path.display().to_string(),
-        ),
-        None => (
-            crate::pprt::builtin_scene(lmax, size.0, size.1)?,
-            "the built-in scene".to_string(),
-        ),
-    };
-    let scene = match overrides.sun {
-        Some(sun) => scene.with_sun(sun)?,
-        None => scene,
-    };
-    Ok((scene.windowed(overrides.window), settings, name))
+impl LoadedJob<'_> {
+    /// Renders into the job's `out` with its renderer ([`render_job`], [`ablation_job`] or
+    /// [`reference_job`]), reporting long stages to `progress`: the report and the image
+    /// (none for the ablation's three).
+    pub fn run(&self, progress: &dyn Progress) -> Result<(JobReport, Option<StokesImage>)> {
+        let job = self.job;
+        let (polarizers, out) = (&job.polarizers_deg, &job.out);
+        match job.renderer {
+            Renderer::Pprt => render_job(
+                &self.scene,
+                self.settings,
+                job.planning,
+                polarizers,
+                out,
+                job.valid_range,
+                progress,
+            )
+            .map(|(r, image)| (JobReport::Render(Box::new(r)), Some(image))),
+            Renderer::Ablation => {
+                ablation_job(&self.scene, self.settings, polarizers, out, progress)
+                    .map(|r| (JobReport::Ablation(r), None))
+            }
+            Renderer::Reference {
+                samples,
+                pixel_grid,
+            } => reference_job(&self.scene, samples, pixel_grid, polarizers, out)
+                .map(|(r, image)| (JobReport::Reference(r), Some(image))),
+        }
+    }
 }
 
 /// Renders `scene` with `settings` into `out` (created), planned as `planning` says
@@ -97,7 +100,7 @@ pub fn job_scene(
 /// `polarizer_{deg}.png` for each angle in `polarizers` (degrees from image-right towards
 /// image-up) and `report.json` (with the plan and the pixels that break PSH (70),
 /// counted before any projection), reporting the precomputation to `progress`. With
-/// `valid_range` every pixel is projected onto the physically valid range PSH (70) (PSH
+/// [`ValidRange::Project`] every pixel is projected onto the physically valid range PSH (70) (PSH
 /// Fig. 22, [`StokesImage::to_nearest_physical`]). Returns the report and the rendered
 /// image.
 pub fn render_job(
@@ -106,7 +109,7 @@ pub fn render_job(
     planning: Planning,
     polarizers: &[f64],
     out: &Path,
-    valid_range: bool,
+    valid_range: ValidRange,
     progress: &dyn Progress,
 ) -> Result<(RenderReport, StokesImage)> {
     prepare_output(scene, out)?;
@@ -133,7 +136,7 @@ pub fn render_job(
     let t2 = Instant::now();
     let mut image = render_frame(scene, &transfer, &high, &hits, &direct)?;
     let unphysical = image.unphysical();
-    if valid_range {
+    if valid_range == ValidRange::Project {
         image.to_nearest_physical()?;
     }
     let t_frame = t2.elapsed().as_secs_f64();
@@ -146,7 +149,7 @@ pub fn render_job(
         let report = RenderReport {
             settings: ReportSettings {
                 l_low: settings.l_low,
-                l_high: settings.l_high,
+                l_high: high_orders_number(settings.l_high),
                 rays_per_vertex: settings.rays,
                 shadows: settings.shadows(),
                 environment_lmax: scene.environment().lmax(),
@@ -154,7 +157,7 @@ pub fn render_job(
                 sun: scene.source().sun().map(Sun::name),
                 image: [cam.width, cam.height],
                 polarizers_deg: polarizers.to_vec(),
-                valid_range_projection: valid_range,
+                valid_range_projection: valid_range == ValidRange::Project,
             },
             unphysical_pixels: unphysical,
             counts: Counts {
@@ -203,50 +206,6 @@ fn prepare_output(scene: &Scene, out: &Path) -> Result<()> {
     })
 }
 
-/// The legends of a render's pictures (the frames of [`crate::pprt::render_frame`]).
-const CAMERA_NOTES: PictureNotes = PictureNotes {
-    title: "",
-    frames: "camera frames (x right, y up)",
-    panels: &[],
-};
-
-/// `render_s{0..3}.exr`, `render_{s0,s1,s2,s3,dop,aop}.png`, `polarizer_{deg}.png` and
-/// `render_object.exr` (per pixel the index of the object seen plus one in `R, G, B`, 0
-/// for the environment: the surface mask) of `image` in `out`; returns the files written.
-fn write_pictures(image: &StokesImage, polarizers: &[f64], out: &Path) -> Result<Vec<PathBuf>> {
-    let mut written = write_stokes_pngs(
-        &image.channels,
-        &vec![true; image.width * image.height],
-        image.width,
-        image.height,
-        CAMERA_NOTES,
-        out.join("render"),
-    )?;
-    for &deg in polarizers {
-        written.push(write_polarizer_png(image, deg, out)?);
-    }
-    written.extend(write_stokes_image(
-        &image.channels,
-        image.width,
-        image.height,
-        out.join("render_s%d.exr"),
-    )?);
-    let path = out.join("render_object.exr");
-    let id: Vec<f32> = image
-        .object
-        .iter()
-        .map(|o| o.map_or(0.0, |k| (k + 1) as f32))
-        .collect();
-    crate::io::exr::write_rgb_exr(
-        &path,
-        image.width,
-        image.height,
-        [id.clone(), id.clone(), id],
-    )?;
-    written.push(path);
-    Ok(written)
-}
-
 /// The scene rendered by the reference renderer instead of PPRT
 /// ([`crate::pprt::Reference`], [`Fidelity::Exact`]: the source environment, the
 /// materials' models, ray-cast visibility) with `samples` directions at each of
@@ -289,20 +248,6 @@ pub fn reference_job(
     Ok((report, image))
 }
 
-/// The report of a [`reference_job`] (`reference.json`).
-#[derive(Clone, Debug, Serialize)]
-pub struct ReferenceReport {
-    /// Directions per pixel position.
-    pub samples_per_pixel: usize,
-    /// Positions per pixel side (`pixel_grid^2` positions, box-filtered).
-    pub pixel_grid: usize,
-    /// Width and height in pixels.
-    pub image: [usize; 2],
-    pub seconds: f64,
-    pub unphysical_pixels: UnphysicalPixels,
-    pub pictures: Vec<PathBuf>,
-}
-
 /// The ablation of PSH Figs. 20 and 21: the scene rendered [`render_job`]-style into
 /// `out/low_only` (the transfer matrices `l <= l_low`, no shadows), `out/low_shadows`
 /// (+ triple-product shadows) and `out/full` (+ the high orders by convolution up to
@@ -317,32 +262,32 @@ pub fn ablation_job(
     out: &Path,
     progress: &dyn Progress,
 ) -> Result<AblationReport> {
-    if !settings.shadows() || settings.l_high <= settings.l_low {
+    let Some(l_high) = settings.high_orders().filter(|_| settings.shadows()) else {
         return Err(Error::InvalidArgument {
             name: "ablation settings",
             value: format!(
                 "shadows {}, l_low {}, l_high {}",
                 settings.shadows(),
                 settings.l_low,
-                settings.l_high
+                high_orders_number(settings.l_high)
             ),
             reason: "the ablation adds shadows and high orders: shadows on and l_high > l_low"
                 .into(),
         });
-    }
+    };
     let variants = [
         (
             "low_only",
             TransferSettings {
                 visibility: Visibility::Off,
-                l_high: 0,
+                l_high: None,
                 ..settings
             },
         ),
         (
             "low_shadows",
             TransferSettings {
-                l_high: 0,
+                l_high: None,
                 ..settings
             },
         ),
@@ -357,7 +302,7 @@ pub fn ablation_job(
             Planning::Full,
             polarizers,
             &out.join(name),
-            false,
+            ValidRange::Keep,
             progress,
         )?;
         rows.push(AblationVariant {
@@ -387,7 +332,7 @@ pub fn ablation_job(
             panels: &[
                 &format!("low orders l <= {}", settings.l_low),
                 "+ shadows (triple products)",
-                &format!("+ high orders to l = {}", settings.l_high),
+                &format!("+ high orders to l = {l_high}"),
             ],
             ..CAMERA_NOTES
         },
@@ -411,164 +356,4 @@ fn write_json(path: &Path, value: &impl Serialize) -> Result<()> {
             reason: e.to_string(),
         })?;
     crate::io::write_text(path, &text).map(drop)
-}
-
-/// The RGB picture through a polarizer at `deg` degrees, doubled (Malus halves
-/// unpolarized light) and exposed so that the 99th percentile of the green channel's `s0`
-/// is white: unpolarized light looks as in the `s0` picture.
-fn write_polarizer_png(image: &StokesImage, deg: f64, out: &Path) -> Result<PathBuf> {
-    let through = (0..3)
-        .map(|c| image.through_polarizer(c, deg.to_radians()))
-        .collect::<Result<Vec<_>>>()?;
-    let mut s0: Vec<f64> = image.channels[1].iter().map(|s| s[0].abs()).collect();
-    s0.sort_by(f64::total_cmp);
-    let exposure = 1.0 / s0[(0.99 * (s0.len() - 1) as f64) as usize].max(1e-300);
-    // A negative intensity through the polarizer breaks PSH (70): flagged, not black.
-    let negative: Vec<bool> = (0..image.width * image.height)
-        .map(|k| (0..3).any(|c| through[c][k] < 0.0))
-        .collect();
-    let rgb: Vec<[u8; 3]> = negative
-        .iter()
-        .enumerate()
-        .map(|(k, &flag)| match flag {
-            true => crate::io::UNPHYSICAL,
-            false => [0, 1, 2].map(|c| srgb8(2.0 * exposure * through[c][k])),
-        })
-        .collect();
-    let white = 0.5 / exposure;
-    let grey = |t: f64| [srgb8(t); 3];
-    let mut legend = Legend::bar(
-        format!("through a polarizer at {deg} deg (right towards up)"),
-        &grey,
-        vec![
-            (0.0, "0".into()),
-            (0.5, tick_label(0.5 * white)),
-            (1.0, tick_label(white)),
-        ],
-    );
-    let negative = negative.iter().filter(|&&f| f).count();
-    if negative > 0 {
-        legend = legend.flag(
-            crate::io::UNPHYSICAL,
-            format!("negative intensity in a channel (breaks PSH (70)): {negative} pixels"),
-        );
-    }
-    let path = out.join(format!("polarizer_{deg}.png"));
-    write_png_with_legend(&path, &legend, image.width, image.height, &rgb)?;
-    Ok(path)
-}
-
-/// What a render did (`report.json`): its settings, counts, plan, times and files.
-#[derive(Clone, Debug, Serialize)]
-pub struct RenderReport {
-    pub settings: ReportSettings,
-    pub counts: Counts,
-    pub plan: PlanReport,
-    /// Per material, the relative residual of projecting its reflected pBRDF onto a
-    /// convolution (the high orders), `None` without high orders.
-    pub high_order_projection_residual_per_material: Vec<Option<f64>>,
-    /// Pixels breaking PSH (70) per channel before any projection (in the pictures:
-    /// magenta in `s0`, `dop` and where a polarizer passes a negative intensity, white in
-    /// `aop`).
-    pub unphysical_pixels: UnphysicalPixels,
-    pub times_s: Times,
-    pub pictures: Vec<PathBuf>,
-}
-
-/// The settings of a render as reported.
-#[derive(Clone, Debug, Serialize)]
-pub struct ReportSettings {
-    pub l_low: usize,
-    pub l_high: usize,
-    pub rays_per_vertex: usize,
-    pub shadows: bool,
-    pub environment_lmax: usize,
-    /// The window of the environment's band limit ([`crate::sh::Window`]).
-    pub window: &'static str,
-    /// How the analytic sky carries its sun ([`Sun`]; none for other environments).
-    pub sun: Option<&'static str>,
-    /// Width and height in pixels.
-    pub image: [usize; 2],
-    pub polarizers_deg: Vec<f64>,
-    /// Whether the pixels were projected onto the valid range PSH (70) (PSH Fig. 22).
-    pub valid_range_projection: bool,
-}
-
-/// The sizes of a render's work.
-#[derive(Clone, Debug, Serialize)]
-pub struct Counts {
-    pub vertices: usize,
-    pub triangles: usize,
-    pub visibility_directions: usize,
-    pub primary_rays: usize,
-    pub transfer_coefficients_per_vertex: usize,
-    pub degenerate_triangles_dropped: usize,
-}
-
-/// Seconds per stage.
-#[derive(Clone, Copy, Debug, Serialize)]
-pub struct Times {
-    pub plan: f64,
-    pub precompute: f64,
-    pub primary_visibility_and_direct_light: f64,
-    pub frame: f64,
-    pub pictures: f64,
-}
-
-/// A plan as reported: its tolerance, Stokes components, visibility, per material the
-/// storage and the high orders, and the reasons ([`crate::pprt::Reason`]'s lines).
-#[derive(Clone, Debug, Serialize)]
-pub struct PlanReport {
-    pub tolerance: Option<f64>,
-    pub stokes: Vec<usize>,
-    pub visibility: String,
-    pub materials: Vec<MaterialReport>,
-    pub reasons: Vec<String>,
-}
-
-/// One material of a [`PlanReport`].
-#[derive(Clone, Debug, Serialize)]
-pub struct MaterialReport {
-    pub storage: String,
-    pub stored_entries: usize,
-    pub isotropy_defect: f64,
-    pub l_high: usize,
-    pub dropped_tail: f64,
-}
-
-impl PlanReport {
-    fn new(plan: &Plan) -> Self {
-        Self {
-            tolerance: plan.planning.tolerance(),
-            stokes: plan.codomain.components().to_vec(),
-            visibility: format!("{:?}", plan.visibility),
-            materials: plan
-                .materials
-                .iter()
-                .map(|m| MaterialReport {
-                    storage: format!("{:?}", m.sparsity),
-                    stored_entries: m.operators.iter().map(SparsePshMatrix::stored).sum(),
-                    isotropy_defect: m.isotropy_defect,
-                    l_high: m.l_high,
-                    dropped_tail: m.dropped_tail,
-                })
-                .collect(),
-            reasons: plan.reasons.iter().map(ToString::to_string).collect(),
-        }
-    }
-}
-
-/// The ablation's report (`ablation.json`).
-#[derive(Clone, Debug, Serialize)]
-pub struct AblationReport {
-    pub variants: Vec<AblationVariant>,
-    pub pictures: Vec<PathBuf>,
-}
-
-/// One variant of the ablation.
-#[derive(Clone, Debug, Serialize)]
-pub struct AblationVariant {
-    pub variant: String,
-    pub settings: ReportSettings,
-    pub times_s: Times,
 }

@@ -26,8 +26,11 @@ use rug::{Float, Integer};
 /// `(x, y, z)` at one point: a second-order jet.
 #[derive(Clone, Debug)]
 pub struct Jet {
+    /// `f(x)`.
     pub value: Float,
+    /// `(df/dx, df/dy, df/dz)`.
     pub gradient: [Float; 3],
+    /// Second derivatives, packed as [`HESSIAN_ENTRIES`].
     pub hessian: [Float; 6],
 }
 

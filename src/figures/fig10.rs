@@ -3,10 +3,10 @@
 //! components in the theta-phi frame field, (c) spin-2 SH (PSH (36)).
 
 use super::{Comparison, FigureOptions, Outcome, Table};
-use crate::apps::figure10::{off_block_fraction, rotation_coefficient_matrix, LinearBasis};
 use crate::error::Result;
 use crate::geometry::rotation_from_rotvec;
 use crate::io::write_matrix_png;
+use crate::polarized::{off_block_fraction, rotation_coefficient_matrix, LinearBasis};
 use crate::sh::{lm_index, lm_of_index, num_coeffs, RealWignerD};
 use num_complex::Complex64;
 use std::path::Path;

@@ -16,7 +16,7 @@ const SIZE: [(usize, usize); 2] = [(480, 360), (160, 120)];
 pub fn run(out: &Path, options: &FigureOptions) -> Result<Outcome> {
     let (w, h) = SIZE[usize::from(options.quick)];
     let settings = TransferSettings::default();
-    let scene = builtin_scene(settings.l_high.max(settings.l_low), w, h)?;
+    let scene = builtin_scene(settings.environment_lmax(), w, h)?;
     let dir = out.join("fig20");
     let report = ablation_job(&scene, settings, &[], &dir, &Silent)?;
     let mut table = Table::new(&[

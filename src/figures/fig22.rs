@@ -20,7 +20,7 @@ const SIZE: [(usize, usize); 2] = [(320, 240), (160, 120)];
 pub fn run(out: &Path, options: &FigureOptions) -> Result<Outcome> {
     let (w, h) = SIZE[usize::from(options.quick)];
     let settings = TransferSettings::default();
-    let scene = builtin_scene(settings.l_high.max(settings.l_low), w, h)?.with_sun(Sun::Lobe)?;
+    let scene = builtin_scene(settings.environment_lmax(), w, h)?.with_sun(Sun::Lobe)?;
     let plan = Plan::with_progress(&scene, settings, Planning::Full, &Silent)?;
     let transfer = precompute_planned(&scene, &plan, &Silent)?;
     let hits = primary_hits(&scene);

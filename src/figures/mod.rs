@@ -57,8 +57,11 @@ pub struct Outcome {
 /// (the companion papers' tables).
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Table {
+    /// The column names; empty: no table, only notes.
     pub header: Vec<String>,
+    /// The rows, each a list of cells.
     pub rows: Vec<Vec<String>>,
+    /// Markdown after the table (a report's own tables); may be empty.
     pub notes: String,
 }
 
@@ -115,8 +118,11 @@ fn cell(text: &str) -> String {
 /// A comparison a figure makes: the measured figure, what must hold, and whether it does.
 #[derive(Clone, Debug, Serialize)]
 pub struct Comparison {
+    /// What was measured, with its numbers.
     pub measured: String,
+    /// The bound it must meet.
     pub expected: String,
+    /// Whether it meets it; a figure that does not fails the run.
     pub holds: bool,
 }
 
@@ -126,6 +132,7 @@ pub struct Figure {
     pub id: &'static str,
     /// The file stem of its outputs, e.g. `fig10`.
     pub stem: &'static str,
+    /// What the figure shows, in a sentence or two.
     pub caption: &'static str,
     /// The equations it exercises.
     pub equations: &'static str,
@@ -287,13 +294,21 @@ pub const FIGURES: &[Figure] = &[
 /// A figure as computed: what [`Figure`] says, its outputs and its time.
 #[derive(Clone, Debug, Serialize)]
 pub struct FigureReport {
+    /// [`Figure::id`].
     pub id: &'static str,
+    /// [`Figure::caption`].
     pub caption: &'static str,
+    /// [`Figure::equations`].
     pub equations: &'static str,
+    /// [`Figure::checks`].
     pub checks: &'static str,
+    /// The pictures written, relative to the output directory.
     pub pictures: Vec<PathBuf>,
+    /// [`Outcome::table`].
     pub table: Table,
+    /// [`Outcome::comparison`].
     pub comparison: Option<Comparison>,
+    /// Seconds to compute the figure (its page not counted).
     pub seconds: f64,
 }
 

@@ -52,11 +52,17 @@ pub trait PixelGrid {
 /// Faces of the cube cross.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CubeFace {
+    /// Forward `+y`; block `(1, 1)` of the cross.
     Front,
+    /// Forward `+x`; block `(1, 2)`.
     Right,
+    /// Forward `-y`; block `(1, 3)`.
     Back,
+    /// Forward `-x`; block `(1, 0)`.
     Left,
+    /// Forward `+z`; block `(0, 1)`.
     Up,
+    /// Forward `-z`; block `(2, 1)`.
     Down,
 }
 

@@ -391,6 +391,7 @@ fn write_layer(
 /// Writes a `w x h` RGB image (row-major, top row first, 32-bit float; an unpolarized
 /// picture such as Mitsuba 3's `envmap` reads). Errors: a channel of another length, a
 /// non-finite value.
+#[cfg(feature = "render")]
 pub(crate) fn write_rgb_exr(path: &Path, w: usize, h: usize, rgb: [Vec<f32>; 3]) -> Result<()> {
     let list = ["R", "G", "B"]
         .into_iter()

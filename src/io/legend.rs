@@ -26,15 +26,19 @@ pub(crate) fn register_font() -> Result<()> {
 
 /// A colour bar: the colour at each `t` in `[0, 1]` (left to right) and ticks `(t, label)`.
 pub struct ColourBar<'a> {
+    /// The RGB colour at `t` in `[0, 1]`, left to right.
     pub colour: &'a dyn Fn(f64) -> [u8; 3],
+    /// Ticks `(t, label)` under the bar (`t` clamped to `[0, 1]`).
     pub ticks: Vec<(f64, String)>,
 }
 
 /// The strip under a picture.
 pub struct Legend<'a> {
+    /// The title line, left-aligned.
     pub title: String,
     /// Names of side-by-side panels of equal width, left to right (empty: one picture).
     pub panels: Vec<String>,
+    /// The colour bar, if any.
     pub bar: Option<ColourBar<'a>>,
     /// Colours of their own and what they mean (drawn as swatches).
     pub flags: Vec<([u8; 3], String)>,

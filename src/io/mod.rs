@@ -36,7 +36,10 @@ pub use kernel_csv::read_kernel_csv;
 pub use legend::{tick_label, ColourBar, Legend, LEGEND_MIN_WIDTH};
 #[cfg(feature = "render")]
 pub use mitsuba::{export_mitsuba, MitsubaExport, ENVMAP_ROWS};
-pub use npz::{read_isotropic_npz, read_psh_npz, write_isotropic_npz, write_npy, write_psh_npz};
+pub use npz::{
+    read_isotropic_npz, read_npy, read_npy_rows, read_npy_shaped, read_psh_npz,
+    write_isotropic_npz, write_npy, write_psh_npz,
+};
 #[cfg(feature = "render")]
 pub use obj::read_obj;
 pub use output::{all_or_nothing, refuse_input, write_file, write_text};
@@ -45,7 +48,7 @@ pub use png::{
     write_stokes_pngs, PictureNotes, UNPHYSICAL,
 };
 #[cfg(feature = "render")]
-pub use scene_file::{data_dir, load_scene, scene_settings, SOURCE_LMAX};
+pub use scene_file::{data_dir, load_scene, read_scene_spec, scene_settings};
 pub use texels::check_stokes_output;
 
 use crate::error::{Error, Result};

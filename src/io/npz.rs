@@ -17,7 +17,7 @@
 //! same field.
 
 use super::{io_error, malformed};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::polarized::{
     isotropic_lmax, isotropic_pairs, Codomain, FieldArgument, IsotropicMatrix, PshVector,
 };
@@ -319,6 +319,55 @@ pub fn write_npy(
             .map_err(|e| io_error(path, e))?;
         push_values(w, path, "value", data, true)
     })
+}
+
+/// A float64 `.npy` file in C order (the layout [`write_npy`] writes): its shape and data.
+pub fn read_npy(path: impl AsRef<Path>) -> Result<(Vec<u64>, Vec<f64>)> {
+    let path = path.as_ref();
+    let bytes = std::fs::read(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let bad = |reason: String| Error::MalformedFile {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let npy = npyz::NpyFile::new(&bytes[..]).map_err(|e| bad(format!("not a .npy file: {e}")))?;
+    if npy.order() != npyz::Order::C && npy.shape().len() > 1 {
+        return Err(bad("expected a C-order array".into()));
+    }
+    let shape = npy.shape().to_vec();
+    let data: Vec<f64> = npy
+        .into_vec()
+        .map_err(|e| bad(format!("expected float64 data: {e}")))?;
+    Ok((shape, data))
+}
+
+/// A `.npy` file ([`read_npy`]) whose shape must be `want`.
+pub fn read_npy_shaped(path: impl AsRef<Path>, want: &[u64]) -> Result<Vec<f64>> {
+    let path = path.as_ref();
+    let (shape, data) = read_npy(path)?;
+    if shape != want {
+        return Err(Error::MalformedFile {
+            path: path.to_path_buf(),
+            reason: format!("expected an array of shape {want:?}, got {shape:?}"),
+        });
+    }
+    Ok(data)
+}
+
+/// A `.npy` file ([`read_npy`]) of `rows` x `width` with any number of rows (at least
+/// one): the rows and the data.
+pub fn read_npy_rows(path: impl AsRef<Path>, width: u64) -> Result<(usize, Vec<f64>)> {
+    let path = path.as_ref();
+    let (shape, data) = read_npy(path)?;
+    match shape[..] {
+        [n, w] if w == width && n > 0 => Ok((n as usize, data)),
+        _ => Err(Error::MalformedFile {
+            path: path.to_path_buf(),
+            reason: format!("expected an array of shape [n, {width}] with n >= 1, got {shape:?}"),
+        }),
+    }
 }
 
 /// Writes `data` to the array `w` of the file `path` and finishes it. Error, when

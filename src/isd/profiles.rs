@@ -25,27 +25,15 @@ pub enum Profile {
     GaussLegendre,
 }
 
+crate::named_enum!(Profile, "profile", {
+    Phong => "phong",
+    Gaussian => "gaussian",
+    Legendre => "legendre",
+    GaussLegendre => "gauss-legendre",
+    Zonal => "zonal",
+});
+
 impl Profile {
-    /// All profiles, in ISD Fig. 13's order plus RZH.
-    pub const ALL: [Profile; 5] = [
-        Profile::Phong,
-        Profile::Gaussian,
-        Profile::Legendre,
-        Profile::GaussLegendre,
-        Profile::Zonal,
-    ];
-
-    /// A short name (`zonal`, `legendre`, `gaussian`, `phong`, `gauss-legendre`).
-    pub fn name(self) -> &'static str {
-        match self {
-            Profile::Zonal => "zonal",
-            Profile::Legendre => "legendre",
-            Profile::Gaussian => "gaussian",
-            Profile::Phong => "phong",
-            Profile::GaussLegendre => "gauss-legendre",
-        }
-    }
-
     /// `g_l(t)` for all `l <= lmax` into `out` (length `lmax + 1`), `t` in `[-1, 1]`.
     pub fn values(self, t: f64, out: &mut [f64]) {
         if matches!(

@@ -53,7 +53,9 @@ pub enum Metric {
 /// absolute eigenvalues of the Hessians `H_l^m`) and `|L|` (norm of the coefficients).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointError {
+    /// `|lambda|`: L2 norm over `(l, m)` of the largest absolute eigenvalues of `H_l^m`.
     pub lambda_norm: f64,
+    /// `|L|`: L2 norm of the coefficients `L_lm`.
     pub coefficient_norm: f64,
 }
 
@@ -225,7 +227,12 @@ pub enum Refinement {
     Uniform,
     /// SHH Sec. 5: subdivide an occupied voxel while its error (the mean of its corners'
     /// errors, SHH (22), with `dx` the voxel diagonal) exceeds `threshold`.
-    Adaptive { metric: Metric, threshold: f64 },
+    Adaptive {
+        /// The error of SHH (22) compared with `threshold`.
+        metric: Metric,
+        /// Subdivision threshold on that error (finite).
+        threshold: f64,
+    },
 }
 
 impl LightGrid {

@@ -7,17 +7,22 @@
 //! - [`LightField`], [`LightSource`]: the light field at a shading point and the lights a
 //!   grid can hold.
 
+pub(crate) mod demo_scene;
 pub(crate) mod grid;
 pub(crate) mod polygon;
 pub(crate) mod source;
 pub(crate) mod spherical;
 
+pub use demo_scene::{
+    exact_coefficients, floor_points, grid_errors, grid_errors_with, light_scene, LightScene,
+};
 pub use grid::{
     hermite_weights, max_abs_eigenvalue, serendipity_weights, Interpolation, Lattice, LightGrid,
     Metric, OccupancyOctree, PointError, Refinement, MAX_LEVEL,
 };
 pub use polygon::{
-    BandLobes, PolygonalLight, PolygonalLights, ZonalFactorization, GEOMETRY_TOLERANCE,
+    polygon_scene, BandLobes, PolygonScene, PolygonalLight, PolygonalLights, ZonalFactorization,
+    GEOMETRY_TOLERANCE,
 };
 pub use source::{LightField, LightSource, Order};
 pub use spherical::{cap_of, cap_zonal, half_angle, SphericalLight, SphericalLights};

@@ -7,8 +7,12 @@ use crate::error::Result;
 /// requested its gradients and packed Hessians (order [`crate::sh::solid::HESSIAN_ENTRIES`]) in `x`.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct LightField {
+    /// `L_lm(x)` in flat order `l*l + l + m` (SHH (2)).
     pub coefficients: Vec<f64>,
+    /// `grad_x L_lm(x)` per coefficient (SHH (6)); empty for [`Order::Values`].
     pub gradients: Vec<[f64; 3]>,
+    /// Hessians of `L_lm(x)` in `x` per coefficient (SHH (15)), packed as
+    /// [`crate::sh::HESSIAN_ENTRIES`]; empty unless [`Order::Hessians`] and derived.
     pub hessians: Vec<[f64; 6]>,
 }
 

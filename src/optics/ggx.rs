@@ -27,30 +27,10 @@ pub enum Masking {
     Separable,
 }
 
-impl Masking {
-    /// Every form, in the order of [`Self::name`]'s names.
-    pub const ALL: [Masking; 2] = [Masking::HeightCorrelated, Masking::Separable];
-
-    /// The name scene files and the command line use.
-    pub fn name(self) -> &'static str {
-        match self {
-            Masking::HeightCorrelated => "height-correlated",
-            Masking::Separable => "separable",
-        }
-    }
-
-    /// The form named `name`. Error: another name (the message lists the names).
-    pub fn from_name(name: &str) -> Result<Self> {
-        Self::ALL
-            .into_iter()
-            .find(|m| m.name() == name)
-            .ok_or_else(|| Error::InvalidArgument {
-                name: "masking",
-                value: crate::error::clip(name),
-                reason: "one of height-correlated, separable".into(),
-            })
-    }
-}
+crate::named_enum!(Masking, "masking", {
+    HeightCorrelated => "height-correlated",
+    Separable => "separable",
+});
 
 /// The isotropic GGX distribution of microfacet normals with roughness `alpha`
 /// (Walter et al. 2007, "Microfacet models for refraction through rough surfaces", (33)),

@@ -49,22 +49,35 @@ impl Channel {
 /// A material of PF Table 1.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Material {
+    /// Conductor (`k > 0`); printed `R_0` (R, G, B): 0.91, 0.91, 0.92.
     Aluminum,
+    /// Conductor (`k > 0`); printed `R_0` (R, G, B): 0.89, 0.79, 0.43.
     Brass,
+    /// Conductor (`k > 0`); printed `R_0` (R, G, B): 0.93, 0.72, 0.50.
     Copper,
+    /// Conductor (`k > 0`); printed `R_0` (R, G, B): 0.94, 0.78, 0.37.
     Gold,
+    /// Conductor (`k > 0`); printed `R_0` (R, G, B): 0.53, 0.51, 0.50.
     Iron,
+    /// Conductor (`k > 0`); printed `R_0` (R, G, B): 0.63, 0.63, 0.64.
     Lead,
+    /// Conductor (`k > 0`); printed `R_0` (R, G, B): 0.68, 0.64, 0.59.
     Platinum,
+    /// Conductor (`k > 0`); printed `R_0` (R, G, B): 0.96, 0.95, 0.92.
     Silver,
+    /// Conductor (`k > 0`); printed `R_0` (R, G, B): 0.62, 0.58, 0.54.
     Titanium,
+    /// Dielectric (`k = 0`); printed `R_0` (R, G, B): 0.17, 0.17, 0.19.
     Diamond,
     /// Soda-lime glass, clear (the table's footnote `*`).
     Glass,
+    /// Dielectric (`k = 0`); printed `R_0` 0.02 in each channel.
     Ice,
     /// Polycarbonate (PC; the table's footnote `†`).
     Plastic,
+    /// Dielectric (`k = 0`); printed `R_0` (R, G, B): 0.03, 0.04, 0.04.
     Quartz,
+    /// Dielectric (`k = 0`); printed `R_0` 0.02 in each channel.
     Water,
 }
 

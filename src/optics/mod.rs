@@ -14,7 +14,7 @@
 //! | [`Material`] | PF Table 1 | PF Table 1 |
 //! | [`LinearPolarizer`], [`malus_law`] | ideal linear polarizer, Malus's law | PF (8), Sec. 2.3 |
 //! | [`psi`], [`omega_ior`], [`psi_dielectric`], [`psi_conductor_approx`], [`omega`], [`filter_angle`]; [`ior_from_r0`], [`schlick`] | the polarizing filter function: `psi`, `Omega_IOR`, `psi_D`, `psi~_C`, `Omega`, filter angle; `R_0 -> n`, Schlick | PF (4), (10)-(18), Listings 1-4; `proofs/polarizing-filter.md` |
-//! | [`psi_curves`], [`error_summary`] | `psi`, `psi~` and their error for every material of Table 1 | PF Fig. 3, Fig. 5 |
+//! | [`psi_curves`] | `psi`, `psi~` and their error for every material of Table 1 | PF Fig. 3, Fig. 5 |
 //!
 //! Conventions (derivations in `proofs/optics.md`):
 //! - Shading frame: the normal is `+z`; `w_i` points from the surface towards the light's
@@ -30,7 +30,7 @@
 //!   is also physically right for `s3` (Mitsuba 3 defines `s3` the same way).
 
 pub(crate) mod filter;
-pub(crate) mod filter_table;
+pub(crate) mod filter_curves;
 mod fresnel;
 mod ggx;
 mod ior;
@@ -44,9 +44,9 @@ pub use filter::{
     beta_approx, filter_angle, gamma_approx, ior_from_r0, mueller_filtered_reflection, omega,
     omega_ior, psi, psi_approx, psi_conductor_approx, psi_dielectric, schlick, Incidence,
 };
-pub use filter_table::{
-    error_summary, metalness, psi_curves, sample_degrees, ErrorSummary, MaxError, PsiCurve,
-    SpecularSource, ERROR_LIMITS_DEGREES, SAMPLES, STEP_DEGREES,
+pub use filter_curves::{
+    metalness, psi_curves, sample_degrees, MaxError, PsiCurve, SpecularSource, SAMPLES,
+    STEP_DEGREES,
 };
 pub use fresnel::{fresnel, specular_reflection, FresnelCoefficients};
 pub use ggx::{Ggx, Masking, MAX_ROUGHNESS, MIN_ROUGHNESS};

@@ -18,15 +18,12 @@ pub enum FieldArgument {
     Travel,
 }
 
-impl FieldArgument {
-    /// A short name for messages and reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            FieldArgument::TowardsSource => "towards-source",
-            FieldArgument::Travel => "travel",
-        }
-    }
+crate::named_enum!(FieldArgument, "field argument", {
+    TowardsSource => "towards-source",
+    Travel => "travel",
+});
 
+impl FieldArgument {
     /// The other convention.
     pub fn reversed(self) -> Self {
         match self {
@@ -50,11 +47,5 @@ impl FieldArgument {
                 self.name()
             ),
         })
-    }
-}
-
-impl std::fmt::Display for FieldArgument {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
     }
 }

@@ -1,8 +1,6 @@
 //! Which Stokes components a PSH field or coefficient vector carries (polarsh's
 //! `cod_type`).
 
-use crate::error::{Error, Result};
-
 /// Whether flat SH index `j = l*l + l + m` with Stokes component `p` lies in the index
 /// set PSH (31): `l >= 0` for `p = 0, 3`, `l >= 2` for the spin-2 components `p = 1, 2`.
 #[inline]
@@ -38,29 +36,11 @@ impl Codomain {
     pub fn has_spin2(self) -> bool {
         self != Codomain::Intensity
     }
-
-    /// The polarsh name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Codomain::Intensity => "SCALAR",
-            Codomain::Linear => "POLAR2",
-            Codomain::NoCircular => "POLAR3",
-            Codomain::Full => "POLAR4",
-        }
-    }
-
-    /// From a polarsh name.
-    pub fn from_name(name: &str) -> Result<Self> {
-        match name {
-            "SCALAR" => Ok(Codomain::Intensity),
-            "POLAR2" => Ok(Codomain::Linear),
-            "POLAR3" => Ok(Codomain::NoCircular),
-            "POLAR4" => Ok(Codomain::Full),
-            _ => Err(Error::InvalidArgument {
-                name: "codomain",
-                value: name.into(),
-                reason: "expected SCALAR, POLAR2, POLAR3 or POLAR4".into(),
-            }),
-        }
-    }
 }
+
+crate::named_enum!(Codomain, "codomain", {
+    Intensity => "SCALAR",
+    Linear => "POLAR2",
+    NoCircular => "POLAR3",
+    Full => "POLAR4",
+});

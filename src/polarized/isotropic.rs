@@ -101,6 +101,39 @@ pub fn isotropy_defect(m: &PshMatrix) -> f64 {
 /// docs), one per colour channel: `blocks[c * K + k]` is the 4 x 4 block `[p_o][p_i]` of
 /// pair `k` of [`isotropic_pairs`] in channel `c`. Input and output fields are indexed as
 /// [`Self::input`] and [`Self::output`] say.
+///
+/// # Example
+///
+/// A zonal filter `k_l` with one `s0 -> s3` coupling of `|m_i| = |m_o|`: isotropic
+/// (PSH (52)), so the sparse form is lossless and applies as the dense matrix; an entry
+/// with `|m_i| != |m_o|` is refused.
+///
+/// ```
+/// use psh::polarized::{in_index_set, IsotropicMatrix, PshMatrix, PshVector};
+/// use psh::sh::lm_of_index;
+///
+/// let (lmax, n) = (2, 9);
+/// let at = |jo: usize, ji: usize, po: usize, pi: usize| ((jo * n + ji) * 4 + po) * 4 + pi;
+/// let k = [1.0, 0.5, 0.25];
+/// let mut data = vec![0.0; n * n * 16];
+/// for j in 0..n {
+///     for p in (0..4).filter(|&p| in_index_set(j, p)) {
+///         data[at(j, j, p, p)] = k[lm_of_index(j).0];
+///     }
+/// }
+/// data[at(7, 1, 3, 0)] = 0.1; // f_{1,-1,0} to f_{2,1,3}
+/// let dense = PshMatrix::from_data(lmax, data.clone())?;
+/// let iso = IsotropicMatrix::from_dense(&dense, 1e-15)?;
+/// assert_eq!(iso.to_dense(0)?, dense);
+///
+/// let f = PshVector::scalar(lmax, (0..n).map(|j| 1.0 + j as f64).collect())?;
+/// let (a, b) = (iso.apply(&f)?, dense.apply(&f)?);
+/// assert!(a.data().iter().zip(b.data()).all(|(x, y)| (x - y).abs() < 1e-14));
+///
+/// data[at(3, 2, 0, 0)] = 0.01; // f_{1,0,0} to f_{1,1,0}
+/// assert!(IsotropicMatrix::from_dense(&PshMatrix::from_data(lmax, data)?, 1e-6).is_err());
+/// # Ok::<(), psh::Error>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct IsotropicMatrix {
     lmax: usize,

@@ -24,6 +24,33 @@ pub enum SpinBlock22 {
 /// `data[((j_o n + j_i) 4 + p_o) 4 + p_i]`, `j = l*l + l + m`, `n = (lmax+1)^2`. Entries
 /// outside the index set PSH (31) are zero. Its input and output fields are indexed as
 /// [`Self::input`] and [`Self::output`] say.
+///
+/// # Example
+///
+/// A matrix read as a Mueller field ([`MatrixKernel`]) and projected back on the exact
+/// grid (PSH (40)) is itself; PSH (41) maps coefficients.
+///
+/// ```
+/// use psh::polarized::{project_operator, MatrixKernel, PshMatrix, PshVector, SpinBlock22};
+///
+/// let (lmax, n) = (2, 9);
+/// let at = |jo: usize, ji: usize, po: usize, pi: usize| ((jo * n + ji) * 4 + po) * 4 + pi;
+/// let mut data = vec![0.0; n * n * 16];
+/// data[at(0, 0, 0, 0)] = 0.5; // s0 to s0, l = 0
+/// data[at(7, 5, 1, 2)] = 0.25; // f_{2,-1,2} to f_{2,1,1}
+/// data[at(2, 8, 3, 0)] = -0.1; // f_{2,2,0} to f_{1,0,3}
+/// let m = PshMatrix::from_data(lmax, data)?;
+///
+/// let p = project_operator(&MatrixKernel(&m), lmax, lmax, SpinBlock22::ComplexPair)?;
+/// assert!(p.data().iter().zip(m.data()).all(|(a, b)| (a - b).abs() < 1e-12));
+///
+/// let mut x = vec![0.0; n];
+/// x[0] = 2.0; // f_000
+/// x[8] = 1.0; // f_{2,2,0}
+/// let g = m.apply(&PshVector::scalar(lmax, x)?)?;
+/// assert_eq!((g.get(0, 0, 0, 0)?, g.get(0, 1, 0, 3)?), (1.0, -0.1));
+/// # Ok::<(), psh::Error>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct PshMatrix {
     lmax: usize,

@@ -11,6 +11,35 @@ use num_complex::Complex64;
 /// A PSH coefficient vector PSH (34): real coefficients `f_lmp` for `l <= lmax`, the
 /// components of `codomain`, and `channels` colour channels, of a field whose argument
 /// means what [`FieldArgument`] says.
+///
+/// # Example
+///
+/// A rotation (PSH (35)-(37)) keeps every degree's energy, keeps `l = 0`, and `R^-1`
+/// undoes `R`.
+///
+/// ```
+/// use psh::geometry::rotation_from_rotvec;
+/// use psh::polarized::{Codomain, PshVector};
+///
+/// // Flat layout `[(l*l + l + m) * 4 + p]`: f_000 = 0.5, f_{2,1,1} = 1, f_{3,-2,2} = -0.3,
+/// // f_{1,0,3} = 0.2 (spin 2 starts at l = 2, PSH (31)).
+/// let mut data = vec![0.0; 16 * 4];
+/// data[0] = 0.5;
+/// data[7 * 4 + 1] = 1.0;
+/// data[10 * 4 + 2] = -0.3;
+/// data[2 * 4 + 3] = 0.2;
+/// let f = PshVector::from_data(3, Codomain::Full, 1, data)?;
+///
+/// let r = rotation_from_rotvec([0.3, -0.2, 0.9])?;
+/// let g = f.rotated(&r)?;
+/// assert!((g.get(0, 0, 0, 0)? - 0.5).abs() < 1e-15);
+/// for (a, b) in f.band_energies().iter().zip(g.band_energies()) {
+///     assert!((a - b).abs() < 1e-13);
+/// }
+/// let back = g.rotated(&r.inverse())?;
+/// assert!(back.data().iter().zip(f.data()).all(|(a, b)| (a - b).abs() < 1e-13));
+/// # Ok::<(), psh::Error>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct PshVector {
     lmax: usize,

@@ -28,6 +28,7 @@ pub(crate) mod reference;
 pub(crate) mod reflected;
 pub(crate) mod render;
 pub(crate) mod scene;
+pub(crate) mod scene_spec;
 pub(crate) mod settings;
 pub(crate) mod sky;
 pub(crate) mod transfer;
@@ -47,7 +48,14 @@ pub use render::{
 pub use scene::{
     Camera, EnvironmentSource, Hit, Scene, SceneMaterial, SceneObject, SHADOW_RAY_OFFSET,
 };
-pub use settings::{Planning, TransferSettings, Visibility, MAX_L_HIGH, MAX_L_LOW};
+pub use scene_spec::{
+    CameraSpec, EnvironmentSpec, MaterialSpec, MeshSpec, SceneFiles, SceneSpec, SettingsSpec, Up,
+    SOURCE_LMAX,
+};
+pub use settings::{
+    high_orders_from_number, high_orders_number, Planning, TransferSettings, Visibility,
+    MAX_L_HIGH, MAX_L_LOW,
+};
 pub use sky::{RayleighSky, Sun};
 pub use transfer::{
     high_order_fields, precompute, precompute_planned, ray_visibility, VertexTransfer,

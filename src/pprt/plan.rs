@@ -79,10 +79,17 @@ pub struct Plan {
 /// material's largest entry).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StokesEvidence {
+    /// The environment's largest `|s1|`, `|s2|` coefficient over its largest `|s0|` one.
     pub linear: f64,
+    /// The environment's largest `|s3|` coefficient over its largest `|s0|` one.
     pub circular: f64,
+    /// The largest entry of the blocks `(p_o, p_i) = (1..=3, 0)` of PSH (41) (unpolarized
+    /// light polarized), over every material and channel.
     pub polarizes: f64,
+    /// The largest entry of the blocks `(p_o, p_i) = (3, 0..=2)` (circular light created),
+    /// over every material and channel.
     pub circularizes: f64,
+    /// The tolerance the figures are held against.
     pub tolerance: f64,
 }
 
@@ -91,25 +98,41 @@ pub struct StokesEvidence {
 pub enum Reason {
     /// The Stokes components carried (`evidence` is `None` without a tolerance).
     Stokes {
+        /// The Stokes components carried.
         codomain: Codomain,
+        /// The figures behind the choice.
         evidence: Option<StokesEvidence>,
     },
     /// The visibility computed against the one asked for.
     Visibility {
+        /// The visibility the settings asked for.
         asked: Visibility,
+        /// The visibility computed.
         chosen: Visibility,
+        /// Visibility rays per vertex asked for.
         rays: usize,
+        /// Whether a tolerance let the planner choose.
         planned: bool,
     },
     /// The storage and the high orders of material `index`: `stored` of `dense` matrix
     /// entries; `l_high` `None` without high orders.
     Material {
+        /// The material's index in the scene.
         index: usize,
+        /// The storage chosen.
         sparsity: Sparsity,
+        /// Matrix entries stored, over the three channels.
         stored: usize,
+        /// Entries of the three dense matrices in the plan's codomain:
+        /// `3 (c (l_low + 1)^2)^2` for `c` Stokes components.
         dense: usize,
+        /// How far the matrices are from isotropic ([`isotropy_defect`], the largest
+        /// channel).
         isotropy_defect: f64,
+        /// The band limit of the high orders.
         l_high: Option<usize>,
+        /// The dropped tail of the high orders relative to the convolved environment's
+        /// L2 norm.
         dropped_tail: f64,
     },
 }
@@ -239,7 +262,7 @@ impl Plan {
         settings.check()?;
         let tolerance = planning.tolerance();
         let l = settings.l_low;
-        let lh = settings.l_high.max(l);
+        let lh = settings.environment_lmax();
         let mut reasons = Vec::new();
         progress.start("materials", scene.materials().len() as u64);
         let matrices_high = scene

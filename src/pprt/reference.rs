@@ -52,6 +52,7 @@ pub enum Fidelity {
 pub struct ReferenceSettings {
     /// Directions per shading point.
     pub samples: usize,
+    /// What is integrated: the ground truth or a band-limited part of PPRT's integrand.
     pub fidelity: Fidelity,
     /// Seeds the per-point shifts of the sequence.
     pub seed: u64,

@@ -23,9 +23,14 @@ use rayon::prelude::*;
 /// top row first) and the object each pixel sees (`None`: the environment).
 #[derive(Clone, Debug, PartialEq)]
 pub struct StokesImage {
+    /// Image columns.
     pub width: usize,
+    /// Image rows.
     pub height: usize,
+    /// `[c][pixel] = [s0, s1, s2, s3]` in the camera's frames (module docs).
     pub channels: Vec<Vec<[f64; 4]>>,
+    /// Per pixel, the index of the scene object the primary ray hits; `None`: the
+    /// environment.
     pub object: Vec<Option<usize>>,
 }
 

@@ -81,10 +81,15 @@ impl SceneMaterial {
 /// vertical field of view and image size.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
+    /// The centre of projection, world coordinates.
     pub position: [f64; 3],
+    /// `x` image-right, `y` image-down, `z` forward, in world coordinates.
     pub frame: crate::geometry::frame::Frame,
+    /// The full vertical field of view, radians.
     pub fov_y: f64,
+    /// Image width in pixels.
     pub width: usize,
+    /// Image height in pixels.
     pub height: usize,
 }
 
@@ -155,7 +160,9 @@ impl Camera {
 /// A mesh with the index of its material.
 #[derive(Clone, Debug)]
 pub struct SceneObject {
+    /// The triangle mesh, world coordinates.
     pub mesh: Mesh,
+    /// Index into [`Scene::materials`].
     pub material: usize,
 }
 
@@ -186,10 +193,15 @@ impl BHShape<f64, 3> for Tri {
 /// second and third vertices.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {
+    /// Index into [`Scene::objects`].
     pub object: usize,
+    /// Index of the triangle in the object's mesh.
     pub triangle: usize,
+    /// Distance from the ray's origin along its (unit) direction, scene units.
     pub distance: f64,
+    /// Barycentric weight of the triangle's second vertex.
     pub u: f64,
+    /// Barycentric weight of the triangle's third vertex.
     pub v: f64,
 }
 
@@ -204,7 +216,9 @@ pub enum EnvironmentSource {
     /// A map at its own resolution ([`StokesMap::incident`]), turned into the world by
     /// `to_world` (its direction `w` is the map's `to_world^-1 w`).
     Map {
+        /// The map, in its own frame.
         map: StokesMap,
+        /// The rotation from the map's frame to the world.
         to_world: Rotation3<f64>,
     },
 }
@@ -345,14 +359,18 @@ impl Scene {
         })
     }
 
+    /// The objects, in the order [`Hit::object`] counts them.
     pub fn objects(&self) -> &[SceneObject] {
         &self.objects
     }
 
+    /// The materials, in the order [`SceneObject::material`] counts them.
     pub fn materials(&self) -> &[SceneMaterial] {
         &self.materials
     }
 
+    /// The environment's PSH coefficients as PPRT uses them: RGB, band-limited, `w`
+    /// towards the source.
     pub fn environment(&self) -> &PshVector {
         &self.environment
     }
@@ -457,6 +475,7 @@ impl Scene {
             .max(1e-12)
     }
 
+    /// The camera.
     pub fn camera(&self) -> &Camera {
         &self.camera
     }

@@ -20,9 +20,9 @@ pub enum Visibility {
 pub struct TransferSettings {
     /// Band limit of the transfer (`l <= l_low`).
     pub l_low: usize,
-    /// Band limit of the high orders by convolution (`l_low < l <= l_high`; none when
-    /// `l_high` is `l_low` or 0), [`super::reflected_radiance`].
-    pub l_high: usize,
+    /// Band limit of the high orders by convolution (`l_low < l <= l_high`,
+    /// [`super::reflected_radiance`]); `None` (or `l_low`): no high orders.
+    pub l_high: Option<usize>,
     /// Visibility rays per vertex (quasi-uniform Fibonacci directions).
     pub rays: usize,
     /// The visibility asked for. A plan within a tolerance replaces [`Visibility::Rays`]
@@ -35,7 +35,7 @@ impl Default for TransferSettings {
     fn default() -> Self {
         Self {
             l_low: 4,
-            l_high: 9,
+            l_high: Some(9),
             rays: 256,
             visibility: Visibility::Rays,
         }
@@ -51,18 +51,22 @@ pub const MAX_L_LOW: usize = 20;
 pub const MAX_L_HIGH: usize = 24;
 
 impl TransferSettings {
-    /// Errors: `l_low` outside `2..=MAX_L_LOW`, `l_high` below `l_low` (other than 0, no
-    /// high orders) or above [`MAX_L_HIGH`], no rays with ray-cast visibility. Cheap: run
-    /// it before any projection.
+    /// Errors: `l_low` outside `2..=MAX_L_LOW`, `l_high` below `l_low` or above
+    /// [`MAX_L_HIGH`], no rays with ray-cast visibility. Cheap: run it before any
+    /// projection.
     pub fn check(&self) -> Result<()> {
         let l = self.l_low;
         if !(2..=MAX_L_LOW).contains(&l)
             || (self.visibility == Visibility::Rays && self.rays == 0)
-            || (self.l_high != 0 && !(l..=MAX_L_HIGH).contains(&self.l_high))
+            || self.l_high.is_some_and(|h| !(l..=MAX_L_HIGH).contains(&h))
         {
             return Err(Error::InvalidArgument {
                 name: "transfer settings",
-                value: format!("l_low {l}, l_high {}, {} rays", self.l_high, self.rays),
+                value: format!(
+                    "l_low {l}, l_high {}, {} rays",
+                    high_orders_number(self.l_high),
+                    self.rays
+                ),
                 reason: format!(
                     "2 <= l_low <= {MAX_L_LOW}, l_low <= l_high <= {MAX_L_HIGH} (or l_high 0: \
                      no high orders), and rays > 0 with shadows"
@@ -72,10 +76,31 @@ impl TransferSettings {
         Ok(())
     }
 
+    /// The band limit the environment is projected to: the high orders' `l_high`, at least
+    /// `l_low` (the one place it is worked out: the render job, scene files and the plan).
+    pub fn environment_lmax(&self) -> usize {
+        self.l_high.unwrap_or(0).max(self.l_low)
+    }
+
+    /// The high orders' band limit when there are high orders (`l_high > l_low`).
+    pub fn high_orders(&self) -> Option<usize> {
+        self.l_high.filter(|&h| h > self.l_low)
+    }
+
     /// Whether the settings ask for shadows at all.
     pub fn shadows(&self) -> bool {
         self.visibility != Visibility::Off
     }
+}
+
+/// `l_high` as scene files, the command line and reports write it: 0 for no high orders.
+pub fn high_orders_number(l_high: Option<usize>) -> usize {
+    l_high.unwrap_or(0)
+}
+
+/// `l_high` from the number of scene files and the command line: 0 for no high orders.
+pub fn high_orders_from_number(l_high: usize) -> Option<usize> {
+    (l_high != 0).then_some(l_high)
 }
 
 /// How much the planner may drop.

@@ -32,27 +32,7 @@ pub enum Sun {
     Directional,
 }
 
-impl Sun {
-    /// The name used by the command line and scene files.
-    pub fn name(self) -> &'static str {
-        match self {
-            Sun::Lobe => "lobe",
-            Sun::Directional => "directional",
-        }
-    }
-
-    /// The sun model of a name ([`Self::name`]). Error: an unknown name.
-    pub fn from_name(name: &str) -> Result<Self> {
-        [Sun::Lobe, Sun::Directional]
-            .into_iter()
-            .find(|s| s.name() == name)
-            .ok_or_else(|| Error::InvalidArgument {
-                name: "sun",
-                value: name.to_string(),
-                reason: "one of lobe, directional".into(),
-            })
-    }
-}
+crate::named_enum!(Sun, "sun", { Lobe => "lobe", Directional => "directional" });
 
 /// The sky (module docs), RGB.
 #[derive(Clone, Debug, PartialEq)]

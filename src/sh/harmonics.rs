@@ -107,6 +107,26 @@ impl CisWalk {
 /// polar caps grows like `l^2 eps`: 14 `l eps` at `l = 8192`, `theta = 2e-4`, order 1
 /// (docs/stability.md). [`ShEvaluator::accurate`] runs the double-double recursion (a few
 /// `1e-16` at any degree, about ten times slower).
+///
+/// # Example
+///
+/// `Y_00 = 1/sqrt(4 pi)`, `Y_10 = sqrt(3/(4 pi)) cos theta` (PSH (12)), and the addition
+/// theorem `sum_m Y_lm^2 = (2l + 1)/(4 pi)`.
+///
+/// ```
+/// use psh::sh::{lm_index, ShEvaluator};
+/// use std::f64::consts::PI;
+///
+/// let sh = ShEvaluator::new(2)?;
+/// let mut y = vec![0.0; sh.len()];
+/// let (theta, phi) = (0.7, 1.9);
+/// sh.real(theta, phi, &mut y)?;
+/// assert!((y[0] - 1.0 / (4.0 * PI).sqrt()).abs() < 1e-16);
+/// assert!((y[lm_index(1, 0)] - (3.0 / (4.0 * PI)).sqrt() * theta.cos()).abs() < 1e-15);
+/// let band2: f64 = (-2..=2).map(|m| y[lm_index(2, m)].powi(2)).sum();
+/// assert!((band2 - 5.0 / (4.0 * PI)).abs() < 1e-15);
+/// # Ok::<(), psh::Error>(())
+/// ```
 #[derive(Clone, Debug)]
 pub struct ShEvaluator {
     lmax: usize,

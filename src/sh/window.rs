@@ -6,7 +6,6 @@
 //! a per-degree scaling commutes with rotations and with the polarized convolution
 //! theorem, spin 0 and spin 2 (`proofs/windowed-band-limits.md`).
 
-use crate::error::{Error, Result};
 use std::f64::consts::PI;
 
 /// A window over the degrees `0..=L` (PSH Sec. 8.2 leaves deringing open; the sources
@@ -23,31 +22,9 @@ pub enum Window {
     Lanczos,
 }
 
+crate::named_enum!(Window, "window", { None => "none", Hann => "hann", Lanczos => "lanczos" });
+
 impl Window {
-    /// Every window, in the order of [`Self::name`]s.
-    pub const ALL: [Window; 3] = [Window::None, Window::Hann, Window::Lanczos];
-
-    /// The name used by the command line and scene files.
-    pub fn name(self) -> &'static str {
-        match self {
-            Window::None => "none",
-            Window::Hann => "hann",
-            Window::Lanczos => "lanczos",
-        }
-    }
-
-    /// The window of a name ([`Self::name`]). Error: an unknown name.
-    pub fn from_name(name: &str) -> Result<Self> {
-        Self::ALL
-            .into_iter()
-            .find(|w| w.name() == name)
-            .ok_or_else(|| Error::InvalidArgument {
-                name: "window",
-                value: name.to_string(),
-                reason: "one of none, hann, lanczos".into(),
-            })
-    }
-
     /// The factor of degree `l` in a window over `0..=lmax` (0 above `lmax`).
     pub fn factor(self, l: usize, lmax: usize) -> f64 {
         if l > lmax {
@@ -65,12 +42,6 @@ impl Window {
     /// The factors `w_0 ..= w_lmax`.
     pub fn factors(self, lmax: usize) -> Vec<f64> {
         (0..=lmax).map(|l| self.factor(l, lmax)).collect()
-    }
-}
-
-impl std::fmt::Display for Window {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
     }
 }
 

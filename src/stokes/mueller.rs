@@ -139,6 +139,34 @@ impl Mul<StokesComponents> for MuellerMatrix {
 /// matrix `M` acting on components in `F_i` and returning components in `F_o`. Compare
 /// transforms with [`MuellerTransform::approx_eq`] (no `PartialEq`: the same transform
 /// has different matrices in different frames).
+///
+/// # Example
+///
+/// An ideal linear polarizer along `x` of `F`: applied twice it is applied once; in the
+/// frame `F' = R_z(pi/2) F` (`x' = y`, `y' = -x`) its matrix is a polarizer along `y'`
+/// (PSH (49)).
+///
+/// ```
+/// use psh::geometry::Frame;
+/// use psh::stokes::{MuellerMatrix, MuellerTransform, StokesComponents, StokesVector};
+/// use std::f64::consts::FRAC_PI_2;
+///
+/// let f = Frame::from_z([0.0, 0.6, 0.8])?;
+/// let (a, z) = ([0.5, 0.5, 0.0, 0.0], [0.0; 4]);
+/// let pol = MuellerTransform::new(MuellerMatrix::from_rows([a, a, z, z])?, f, f);
+/// assert!(pol.compose(&pol)?.approx_eq(&pol, 1e-15)?);
+///
+/// let f2 = f.rotated_about_z(FRAC_PI_2)?;
+/// let (b, c) = ([0.5, -0.5, 0.0, 0.0], [-0.5, 0.5, 0.0, 0.0]);
+/// let along_y = MuellerMatrix::from_rows([b, c, z, z])?;
+/// assert!(pol.matrix_in(&f2, &f2)?.approx_eq(&along_y, 1e-15));
+///
+/// // Unpolarized light, stored in `F'`, leaves at half intensity, polarized along `x`.
+/// let out = pol.apply(&StokesVector::new(StokesComponents::unpolarized(1.0)?, f2))?;
+/// let s = out.components_in(&f)?;
+/// assert!(s.approx_eq(&StokesComponents::new([0.5, 0.5, 0.0, 0.0])?, 1e-15));
+/// # Ok::<(), psh::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct MuellerTransform {
     m: MuellerMatrix,

@@ -18,6 +18,28 @@ use num_complex::Complex64;
 /// are equal as geometric objects may store different components in different frames;
 /// compare them with [`StokesVector::approx_eq`] (there is deliberately no `PartialEq`,
 /// which could only compare the stored representations).
+///
+/// # Example
+///
+/// Light fully polarized along `x` of `F`, read in `F' = R_z(pi/4) F` (PSH (14)):
+/// `s1' + i s2' = e^{-i pi/2} (s1 + i s2) = -i`.
+///
+/// ```
+/// use psh::geometry::Frame;
+/// use psh::stokes::{StokesComponents, StokesVector};
+/// use std::f64::consts::FRAC_PI_4;
+///
+/// let f = Frame::from_z([0.0, 0.6, 0.8])?;
+/// let s = StokesVector::new(StokesComponents::new([1.0, 1.0, 0.0, 0.0])?, f);
+/// let f2 = f.rotated_about_z(FRAC_PI_4)?;
+/// let c = s.components_in(&f2)?;
+/// assert!(c.s1().abs() < 1e-15 && (c.s2() + 1.0).abs() < 1e-15);
+/// assert_eq!((c.s0(), c.s3()), (1.0, 0.0));
+/// // The same geometric vector stored in `F'`; a frame of another ray is refused.
+/// assert!(s.in_frame(&f2)?.approx_eq(&s, 1e-15)?);
+/// assert!(s.components_in(&Frame::from_z([1.0, 0.0, 0.0])?).is_err());
+/// # Ok::<(), psh::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct StokesVector {
     s: StokesComponents,

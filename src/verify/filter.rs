@@ -6,7 +6,7 @@ use crate::optics::filter::{
     beta_approx, filter_angle, gamma_approx, ior_from_r0, mueller_filtered_reflection, omega,
     omega_ior, psi, psi_dielectric, Incidence,
 };
-use crate::optics::filter_table::{psi_curves, SpecularSource};
+use crate::optics::filter_curves::{psi_curves, SpecularSource};
 use crate::optics::{
     malus_law, Channel, ComplexIor, FresnelCoefficients, LinearPolarizer, Material,
 };

@@ -14,6 +14,7 @@ use crate::sh::num_coeffs;
 use crate::sh::transform::ShTransform;
 use crate::testing::random_directions;
 
+/// The checks of the isotropic spherical decomposition, in `psh verify`'s order.
 pub fn checks() -> Vec<Check> {
     vec![
         Check {

@@ -214,9 +214,9 @@ fn error_metric() -> Result<f64> {
 }
 
 fn adaptive_error_falls() -> Result<f64> {
-    use crate::apps::light_scene::{demo_scene, exact_coefficients, grid_errors};
     use crate::lights::grid::{Lattice, LightGrid, Metric, Refinement};
-    let scene = demo_scene(32, 12, 20, 5)?;
+    use crate::lights::{exact_coefficients, grid_errors, light_scene};
+    let scene = light_scene(32, 12, 20, 5)?;
     let lights = SphericalLights::new(scene.lights.clone(), 4)?;
     let exact = exact_coefficients(&lights, &scene.points)?;
     let mut errors = Vec::new();

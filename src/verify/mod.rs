@@ -49,12 +49,19 @@ pub struct Check {
 /// The outcome of a check (the JSON record of `psh verify --json`).
 #[derive(Clone, Debug, Serialize)]
 pub struct CheckResult {
+    /// [`Check::id`].
     pub id: String,
+    /// [`Check::source`].
     pub source: String,
+    /// [`Check::description`].
     pub description: String,
+    /// The maximum error computed; NaN when the check errored or was skipped.
     pub max_error: f64,
+    /// [`Check::tolerance`].
     pub tolerance: f64,
+    /// `max_error <= tolerance` without an error, or skipped.
     pub passed: bool,
+    /// [`Check::proof`].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub proof: Option<String>,
     /// Set when the check could not run (its error message); the check then fails.

@@ -112,7 +112,7 @@ pub fn unpolarized_vs_full(rays: usize) -> Result<f64> {
     let scene = crate::pprt::builtin::builtin_unpolarized_scene(9, 16, 12)?;
     let settings = TransferSettings {
         l_low: 4,
-        l_high: 9,
+        l_high: Some(9),
         rays,
         visibility: crate::pprt::Visibility::Rays,
     };
@@ -150,7 +150,7 @@ pub fn tangent_plane_vs_rays(rays: usize) -> Result<f64> {
     let scene = convex_scene(6)?;
     let settings = TransferSettings {
         l_low: 6,
-        l_high: 0,
+        l_high: None,
         rays,
         visibility: crate::pprt::Visibility::Rays,
     };

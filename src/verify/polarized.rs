@@ -1,10 +1,10 @@
 //! Checks of the polarized SH (`psh::polarized`).
 
 use super::Check;
-use crate::apps::figure10::{off_block_fraction, rotation_coefficient_matrix, LinearBasis};
 use crate::error::Result;
 use crate::geometry::frame::ThetaPhiFrameField;
 use crate::geometry::rotation_from_rotvec;
+use crate::polarized::{off_block_fraction, rotation_coefficient_matrix, LinearBasis};
 use crate::polarized::{Codomain, PshRotation, PshTransform};
 use crate::sh::num_coeffs;
 use crate::testing::random_psh;

@@ -10,6 +10,7 @@ use crate::lights::source::Order;
 /// Band limit of the checks.
 const LMAX: usize = 20;
 
+/// The checks of the polygonal lights, in `psh verify`'s order.
 pub fn checks() -> Vec<Check> {
     vec![
         Check {
@@ -57,9 +58,13 @@ pub fn checks() -> Vec<Check> {
 
 /// A named case: light, shading point and optional horizon normal.
 pub struct Case {
+    /// What the case is, as the tests print it.
     pub name: &'static str,
+    /// The light, unit radiance.
     pub light: PolygonalLight,
+    /// The shading point.
     pub x: [f64; 3],
+    /// The unit normal whose upper hemisphere the light is clipped to; `None`: unclipped.
     pub horizon: Option<[f64; 3]>,
 }
 

@@ -95,7 +95,7 @@ pub fn reference_discrepancy(samples: usize) -> Result<f64> {
     let scene = crate::pprt::builtin::builtin_scene(l, 16, 12)?.with_sun(crate::pprt::Sun::Lobe)?;
     let settings = crate::pprt::TransferSettings {
         l_low: l,
-        l_high: 0,
+        l_high: None,
         rays: 1,
         visibility: crate::pprt::Visibility::Off,
     };

@@ -19,6 +19,7 @@
 pub(crate) mod boundary;
 pub(crate) mod clip;
 pub(crate) mod cubature;
+pub(crate) mod demo_scene;
 #[cfg(any(test, feature = "verify"))]
 pub(crate) mod reference;
 pub(crate) mod zonal_factorization;
@@ -29,6 +30,7 @@ use crate::sh::num_coeffs;
 use boundary::{cross, dot, norm, triangle_solid_angle, Arc};
 use clip::{clip_to_horizon, ClippedPolygon};
 use cubature::{is_small, SmallLights};
+pub use demo_scene::{polygon_scene, PolygonScene};
 pub use zonal_factorization::{BandLobes, ZonalFactorization};
 
 /// Relative tolerance of the planarity and convexity checks and of "on the plane".

@@ -1,12 +1,12 @@
 //! A procedural scene of many triangular lights over a floor of shading points, for the
 //! demo (`psh polygon-lights-demo`).
 //!
-//! The near lights hang 0.3-0.6 above the floor, tilted at most 5 degrees, so that their
-//! planes (where the two-sided light's field has a kink) stay clear of the grid box; four
-//! tall wall lights beyond the floor cross its horizon and are clipped.
+//! The near lights hang 0.3-0.6 above the floor, tilted at most 5 degrees along x and y,
+//! so that their planes (where the two-sided light's field has a kink) stay clear of the
+//! grid box; four tall wall lights beyond the floor cross its horizon and are clipped.
 
-use crate::apps::light_scene::floor_points;
 use crate::error::Result;
+use crate::lights::demo_scene::floor_points;
 use crate::lights::polygon::PolygonalLight;
 use crate::random::pseudo_random;
 
@@ -15,7 +15,9 @@ use crate::random::pseudo_random;
 pub struct PolygonScene {
     /// An `n x n` floor grid on `z = 0`, `[-1, 1]^2`, row by row.
     pub points: Vec<[f64; 3]>,
+    /// Points per side of the floor.
     pub floor_side: usize,
+    /// The near triangles, then the four walls.
     pub lights: Vec<PolygonalLight>,
     /// The grid box `[-1, 1]^2 x [-0.05, 0.05]`.
     pub bounds: ([f64; 3], [f64; 3]),
@@ -24,7 +26,7 @@ pub struct PolygonScene {
 }
 
 /// The scene with `near` random triangles (edges 0.1-0.3, radiance 1-2) and four walls.
-pub fn demo_scene(floor_side: usize, near: usize, seed: u64) -> Result<PolygonScene> {
+pub fn polygon_scene(floor_side: usize, near: usize, seed: u64) -> Result<PolygonScene> {
     let points = floor_points(floor_side);
     let r = pseudo_random(8 * near, seed);
     let mut lights = Vec::with_capacity(near + 4);

@@ -1,7 +1,7 @@
-//! The polarizing factor of every material of PF Table 1 against the angle of incidence
-//! (PF Fig. 3), its specular-colour approximation and the approximation's error
-//! (PF Fig. 5), and the largest error per material and channel: the numbers behind
-//! `psh filter-report` and the checks `filter.conductor_error_*`.
+//! The polarizing factor of every material of PF Table 1 sampled against the angle of
+//! incidence (PF Fig. 3), with its specular-colour approximation and the approximation's
+//! error (PF Fig. 5): the curves behind `psh filter-report` (`apps::filter_report`
+//! tabulates them) and the checks `filter.conductor_error_*`.
 
 use super::filter::{psi, psi_approx, Incidence};
 use super::material::{Channel, Material};
@@ -12,9 +12,6 @@ pub const STEP_DEGREES: f64 = 0.1;
 
 /// The number of samples: `0, 0.1, ..., 89.9` degrees.
 pub const SAMPLES: usize = 900;
-
-/// The angles (degrees) at which the largest errors are reported.
-pub const ERROR_LIMITS_DEGREES: [f64; 2] = [60.0, 89.0];
 
 /// Which specular colour feeds the approximation `psi~`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -55,11 +52,16 @@ pub fn sample_degrees(i: usize) -> f64 {
 /// [`sample_degrees`]`(0..SAMPLES)`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PsiCurve {
+    /// The material (a row of PF Table 1).
     pub material: Material,
+    /// The colour channel, whose `n`, `k` and `R_0` are used.
     pub channel: Channel,
     /// The `R_0` given to `psi~`.
     pub r0: f64,
+    /// `psi` (PF (10)) from the table's `n`, `k`, one per sample.
     pub psi: Vec<f64>,
+    /// `psi~` (PF Sec. 3.6; `psi~_C` for conductors, `psi_D` for dielectrics) from
+    /// [`r0`](Self::r0), one per sample.
     pub psi_approx: Vec<f64>,
 }
 
@@ -129,40 +131,6 @@ pub fn psi_curves(source: SpecularSource) -> Result<Vec<PsiCurve>> {
         .flat_map(|&m| Channel::ALL.map(|c| (m, c)))
         .map(|(m, c)| PsiCurve::new(m, c, source))
         .collect()
-}
-
-/// The largest errors of one material and channel, up to each of
-/// [`ERROR_LIMITS_DEGREES`], with `psi~` fed by both [`SpecularSource`]s.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ErrorSummary {
-    pub material: Material,
-    pub channel: Channel,
-    /// `R_0` by PF (3) from the table's `n`, `k`.
-    pub r0_ior: f64,
-    /// `R_0` as printed.
-    pub r0_printed: f64,
-    /// With `R_0` from PF (3), up to 60 and 89 degrees.
-    pub from_ior: [MaxError; 2],
-    /// With the printed `R_0`, up to 60 and 89 degrees.
-    pub printed: [MaxError; 2],
-}
-
-/// The [`ErrorSummary`] of every material and channel, in the table's order.
-pub fn error_summary() -> Result<Vec<ErrorSummary>> {
-    let ior = psi_curves(SpecularSource::FromIor)?;
-    let printed = psi_curves(SpecularSource::Printed)?;
-    Ok(ior
-        .iter()
-        .zip(&printed)
-        .map(|(a, b)| ErrorSummary {
-            material: a.material,
-            channel: a.channel,
-            r0_ior: a.r0,
-            r0_printed: b.r0,
-            from_ior: ERROR_LIMITS_DEGREES.map(|l| a.max_error(l)),
-            printed: ERROR_LIMITS_DEGREES.map(|l| b.max_error(l)),
-        })
-        .collect())
 }
 
 #[cfg(test)]

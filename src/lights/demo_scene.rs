@@ -16,20 +16,21 @@ use crate::random::pseudo_random;
 
 /// Shading points and lights of the scene.
 #[derive(Clone, Debug)]
-pub struct Scene {
+pub struct LightScene {
     /// Shading points: an `n x n` floor grid on `z = 0`, `[-1, 1]^2`, row by row.
     pub points: Vec<[f64; 3]>,
     /// Points per side of the floor.
     pub floor_side: usize,
+    /// The near lights, then the far ones.
     pub lights: Vec<SphericalLight>,
     /// The box enclosing the shading points (the grid's root voxel).
     pub bounds: ([f64; 3], [f64; 3]),
 }
 
-/// The scene with `near` lights of radius 0.02-0.03 at heights 0.08-0.2 above the floor
+/// The scene with `near` lights of radius 0.02-0.05 at heights 0.08-0.2 above the floor
 /// and `far` lights of radius 1-3 at distance 15-40, from a fixed seed; the grid box is
 /// `[-1, 1]^2 x [-0.05, 0.05]`.
-pub fn demo_scene(floor_side: usize, near: usize, far: usize, seed: u64) -> Result<Scene> {
+pub fn light_scene(floor_side: usize, near: usize, far: usize, seed: u64) -> Result<LightScene> {
     let points = floor_points(floor_side);
     let r = pseudo_random(3 * (near + far), seed);
     let mut k = 0;
@@ -61,7 +62,7 @@ pub fn demo_scene(floor_side: usize, near: usize, far: usize, seed: u64) -> Resu
         ];
         lights.push(SphericalLight::new(dir.map(|d| d * dist), 2.0 + c, 5.0)?);
     }
-    Ok(Scene {
+    Ok(LightScene {
         points,
         floor_side,
         lights,

@@ -1,0 +1,221 @@
+//! The settings of a render job, with their defaults in one place: the command line
+//! (`psh render`, `bench-error`, `export-mitsuba`) and Python (`psh.render`) build a
+//! [`RenderJob`] or a [`SceneSetup`] and never repeat a default.
+
+use crate::error::{Error, Result};
+use crate::pprt::scene::Scene;
+use crate::pprt::settings::{Planning, TransferSettings, Visibility};
+use crate::pprt::Sun;
+use crate::sh::Window;
+use std::path::PathBuf;
+
+/// An image size in pixels, written `WxH` (`480x360`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ImageSize {
+    /// Columns.
+    pub width: usize,
+    /// Rows.
+    pub height: usize,
+}
+
+impl ImageSize {
+    /// The built-in scene's camera (`psh render`'s default).
+    pub const RENDER: ImageSize = ImageSize {
+        width: 480,
+        height: 360,
+    };
+}
+
+impl std::fmt::Display for ImageSize {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}x{}", self.width, self.height)
+    }
+}
+
+impl std::str::FromStr for ImageSize {
+    type Err = Error;
+
+    /// `WxH` with positive sizes.
+    fn from_str(size: &str) -> Result<Self> {
+        size.split_once('x')
+            .and_then(|(w, h)| Some((w.trim().parse().ok()?, h.trim().parse().ok()?)))
+            .filter(|&(w, h): &(usize, usize)| w > 0 && h > 0)
+            .map(|(width, height)| ImageSize { width, height })
+            .ok_or_else(|| Error::InvalidArgument {
+                name: "--size",
+                value: size.to_string(),
+                reason: "expected WxH, e.g. 480x360".into(),
+            })
+    }
+}
+
+/// Where a job's scene comes from and what the job changes of it.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct SceneSetup {
+    /// A scene file (TOML, `docs/pprt.md`); `None`: the built-in scene.
+    pub file: Option<PathBuf>,
+    /// The built-in scene's image size (a scene file gives its camera's).
+    pub size: ImageSize,
+    /// How the analytic sky carries its sun; `None`: the scene's.
+    pub sun: Option<Sun>,
+    /// The window tapering the environment's band limit.
+    pub window: Window,
+}
+
+impl Default for SceneSetup {
+    /// The built-in scene at [`ImageSize::RENDER`], its own sun, no window.
+    fn default() -> Self {
+        Self {
+            file: None,
+            size: ImageSize::RENDER,
+            sun: None,
+            window: Window::None,
+        }
+    }
+}
+
+impl SceneSetup {
+    /// The scene, its environment band-limited to `lmax` (a file's at least to its own
+    /// settings), with the sun and window asked for; and its name for messages. Error: a
+    /// sun asked of a scene without the analytic sky.
+    pub fn load(&self, lmax: usize) -> Result<(Scene, String)> {
+        let (scene, name) = match &self.file {
+            Some(path) => (
+                crate::io::load_scene(path, lmax)?.0,
+                path.display().to_string(),
+            ),
+            None => (
+                crate::pprt::builtin_scene(lmax, self.size.width, self.size.height)?,
+                "the built-in scene".to_string(),
+            ),
+        };
+        let scene = match self.sun {
+            Some(sun) => scene.with_sun(sun)?,
+            None => scene,
+        };
+        Ok((scene.windowed(self.window), name))
+    }
+
+    /// The transfer settings of the scene: the file's `[settings]`, or the defaults.
+    pub fn settings(&self) -> Result<TransferSettings> {
+        match &self.file {
+            Some(path) => crate::io::scene_settings(path),
+            None => Ok(TransferSettings::default()),
+        }
+    }
+}
+
+/// Whether a job keeps the scene's shadows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Shadows {
+    /// As the scene's settings say.
+    #[default]
+    AsScene,
+    /// None: no visibility rays.
+    Off,
+}
+
+/// What a job does with pixels outside the physically valid range PSH (70).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ValidRange {
+    /// Each pixel projected onto `s0 >= |(s1, s2, s3)|` (PSH Fig. 22,
+    /// `proofs/stokes-valid-range.md`): the nearest valid vector, AoLP kept.
+    #[default]
+    Project,
+    /// The transport's vectors kept (the pixels breaking PSH (70) show in magenta).
+    Keep,
+}
+
+/// Which renderer a job runs.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Renderer {
+    /// Precomputed polarized radiance transfer, planned as the job's [`Planning`] says.
+    #[default]
+    Pprt,
+    /// The ablation of PSH Figs. 20, 21: low orders only, with shadows, with high orders.
+    Ablation,
+    /// The reference renderer ([`crate::pprt::Reference`]) with `samples` directions at
+    /// each of `pixel_grid x pixel_grid` positions per pixel.
+    Reference {
+        /// Directions per pixel position.
+        samples: usize,
+        /// Positions per pixel side (1: the pixel's centre).
+        pixel_grid: usize,
+    },
+}
+
+/// Every setting of a render job (`psh render`, Python `psh.render`).
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct RenderJob {
+    /// The scene and what the job changes of it.
+    pub scene: SceneSetup,
+    /// Band limit of the transfer; `None`: the scene's (default 4).
+    pub l_low: Option<usize>,
+    /// Band limit of the high orders; `None`: the scene's (default 9); `Some(None)`: no
+    /// high orders.
+    pub l_high: Option<Option<usize>>,
+    /// Visibility rays per vertex; `None`: the scene's (default 256).
+    pub rays: Option<usize>,
+    /// The scene's shadows, or none.
+    pub shadows: Shadows,
+    /// How much the planner may drop.
+    pub planning: Planning,
+    /// Projection onto the valid range PSH (70), or not.
+    pub valid_range: ValidRange,
+    /// Polarizer angles in degrees from image-right towards image-up (`polarizer_{deg}.png`).
+    pub polarizers_deg: Vec<f64>,
+    /// Output directory (created).
+    pub out: PathBuf,
+    /// The renderer.
+    pub renderer: Renderer,
+}
+
+impl RenderJob {
+    /// The planner's default tolerance (relative).
+    pub const TOLERANCE: f64 = 1e-3;
+    /// The default polarizer angles in degrees.
+    pub const POLARIZERS_DEG: [f64; 4] = [0.0, 45.0, 90.0, 135.0];
+    /// The default output directory.
+    pub const OUT: &'static str = "psh-out";
+}
+
+impl Default for RenderJob {
+    /// The built-in scene at 480 x 360 with its settings, planned within
+    /// [`RenderJob::TOLERANCE`], projected onto the valid range, four polarizers, into
+    /// `psh-out`: what `cargo run --release` renders.
+    fn default() -> Self {
+        Self {
+            scene: SceneSetup::default(),
+            l_low: None,
+            l_high: None,
+            rays: None,
+            shadows: Shadows::AsScene,
+            planning: Planning::Tolerance(Self::TOLERANCE),
+            valid_range: ValidRange::Project,
+            polarizers_deg: Self::POLARIZERS_DEG.to_vec(),
+            out: PathBuf::from(Self::OUT),
+            renderer: Renderer::Pprt,
+        }
+    }
+}
+
+impl RenderJob {
+    /// The transfer settings: the scene's, changed as the job says, checked
+    /// ([`TransferSettings::check`]) before any scene is loaded or projected.
+    pub fn settings(&self) -> Result<TransferSettings> {
+        let scene = self.scene.settings()?;
+        let settings = TransferSettings {
+            l_low: self.l_low.unwrap_or(scene.l_low),
+            l_high: self.l_high.unwrap_or(scene.l_high),
+            rays: self.rays.unwrap_or(scene.rays),
+            visibility: match self.shadows {
+                Shadows::AsScene => scene.visibility,
+                Shadows::Off => Visibility::Off,
+            },
+        };
+        settings.check()?;
+        Ok(settings)
+    }
+}
