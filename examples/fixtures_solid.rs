@@ -2,7 +2,7 @@
 //! the bands `l` in {4, 8, 12, 16, 20, 30, 50} (every `m`) at 8 directions, from the
 //! arbitrary-precision oracle [`psh::exact::sh_jets`] (explicit polynomial and
 //! second-order automatic differentiation, independent of the recurrences of
-//! `psh::sh::solid`). These are the orders of SHH Table 1 and two beyond.
+//! `psh::sh::evaluation::solid`). These are the orders of SHH Table 1 and two beyond.
 //!
 //! ```text
 //! cargo run --release --features exact --example fixtures_solid

@@ -815,7 +815,7 @@ fn eval_sh_derivatives_low_degrees() {
     assert_eq!(v["shape"], serde_json::json!([2, 4, 10]));
     let (shape, d) = read_npy(&out);
     assert_eq!(shape, [2, 4, 10]);
-    // Y_10 = c1 z / |x|: gradient c1 (e_z - z w), H_zz = c1 (3 z^3 - 3 z) (sh::solid).
+    // Y_10 = c1 z / |x|: gradient c1 (e_z - z w), H_zz = c1 (3 z^3 - 3 z) (sh::evaluation::solid).
     let c1 = (3.0 / (4.0 * std::f64::consts::PI)).sqrt();
     for (p, w) in [[1.0, 0.0, 0.0], [0.0, 0.6, 0.8]].iter().enumerate() {
         let row = &d[(p * 4 + 2) * 10..(p * 4 + 3) * 10];

@@ -1,5 +1,5 @@
 //! Oracle for the Cartesian gradients and Hessians of the real SH (SHH Sec. 4), in
-//! arbitrary precision, independent of the recurrences of [`crate::sh::solid`].
+//! arbitrary precision, independent of the recurrences of [`crate::sh::evaluation::solid`].
 //!
 //! The function is the degree-0 extension `Y_lm(x) = Y_lm(x / |x|)` of psh's real SH
 //! (PSH (12)), differentiated at the point `x` given as f64 (used exactly). Nothing of
@@ -17,8 +17,8 @@
 //! pass it, and the tests compare two precisions. Not certified (unlike
 //! [`super::legendre`]); see `proofs/sh-hessian.md`.
 
+use crate::sh::evaluation::solid::{hessian_index, HESSIAN_ENTRIES};
 use crate::sh::num_coeffs;
-use crate::sh::solid::{hessian_index, HESSIAN_ENTRIES};
 use rug::float::Constant;
 use rug::{Float, Integer};
 
@@ -201,8 +201,8 @@ pub fn sh_jets(lmax: usize, x: [f64; 3], prec: u32) -> Vec<Jet> {
 mod tests {
     use super::*;
     use crate::geometry::{direction, direction_angles};
-    use crate::sh::harmonics::sh_real;
-    use crate::sh::solid::SolidHarmonics;
+    use crate::sh::evaluation::harmonics::sh_real;
+    use crate::sh::evaluation::solid::SolidHarmonics;
 
     /// Directions of the tests: poles, 1e-8 from a pole, generic.
     fn dirs() -> Vec<[f64; 3]> {
@@ -235,7 +235,7 @@ mod tests {
         }
     }
 
-    /// f64 gradients and Hessians of `psh::sh::solid` against the oracle, every `l <= 50`
+    /// f64 gradients and Hessians of `psh::sh::evaluation::solid` against the oracle, every `l <= 50`
     /// and every `m`: absolute errors relative to `(l + 1)^2` (the size of the Hessians),
     /// and the SHH Table 1 mean squared error of the Hessians up to each order.
     #[test]

@@ -1,5 +1,5 @@
 //! Exact Wigner 3j symbols and Gaunt coefficients (feature `exact`): oracles for
-//! [`crate::sh::wigner3j`] and [`crate::sh::gaunt`].
+//! [`crate::sh::coupling::wigner3j`] and [`crate::sh::coupling::gaunt`].
 //!
 //! Every 3j symbol with integer arguments is `± sqrt(r)` with `r` rational (Racah's formula,
 //! DLMF 34.2.4), computed here in exact integer/rational arithmetic ([`rug`]). Gaunt
@@ -7,7 +7,7 @@
 //! represented by the exact factor `± sqrt(q)` ([`SignedSqrt`]) and the explicit
 //! `1/sqrt(4 pi)`, evaluated only when converting to a [`Float`] ([`ExactGaunt`]).
 //!
-//! Conventions are those of [`crate::sh::gaunt`]: complex SH of PSH (1) with the
+//! Conventions are those of [`crate::sh::coupling::gaunt`]: complex SH of PSH (1) with the
 //! Condon-Shortley phase, real SH of PSH (12).
 //!
 //! Nothing here shares code with the `f64` implementation: the 3j symbols come from Racah's
@@ -236,7 +236,7 @@ fn racah(l1: i64, l2: i64, l3: i64, m1: i64, m2: i64, m3: i64) -> SignedSqrt {
 }
 
 /// Exact Wigner 3j symbol `(l1 l2 l3; m1 m2 m3)` by Racah's formula (DLMF 34.2.4), as
-/// `± sqrt(r)`; arguments in `(l, m)` pairs as in [`crate::sh::wigner3j`]. Exactly zero when the selection rules (DLMF §34.2) forbid it, and also at
+/// `± sqrt(r)`; arguments in `(l, m)` pairs as in [`crate::sh::coupling::wigner3j`]. Exactly zero when the selection rules (DLMF §34.2) forbid it, and also at
 /// nontrivial zeros such as `(3 3 2; 2 -2 0)`.
 ///
 /// Errors: [`Error::DegreeOutOfRange`] (degree above [`MAX_GAUNT_DEGREE`]),
@@ -606,7 +606,7 @@ mod tests {
         assert!(SignedSqrt::new(2, q(1, 2)).is_err());
     }
 
-    /// The f64 rows of `crate::sh::wigner3j` against Racah's formula up to degree 8192: samples
+    /// The f64 rows of `crate::sh::coupling::wigner3j` against Racah's formula up to degree 8192: samples
     /// of each row (both ends, the middle, the largest value and 150 points across), including
     /// the edge cases m = ±l whose rows peak at l3_min. Every value in the normal f64 range
     /// must be within one ulp (relative error <= 2^-52): the recursion runs in double-double,

@@ -6,7 +6,7 @@ use super::pi_l;
 use super::profiles::Profile;
 use crate::error::{check_len, Error, Result};
 use crate::geometry::check_direction;
-use crate::sh::harmonics::ShEvaluator;
+use crate::sh::evaluation::harmonics::ShEvaluator;
 use crate::sh::{lm_of_index, num_coeffs};
 use nalgebra::{DMatrix, DVector, Dyn, LU};
 

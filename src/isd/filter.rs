@@ -14,10 +14,10 @@ use super::profiles::Profile;
 use crate::error::{check_len, Error, Result};
 use crate::geometry::check_direction;
 use crate::lights::spherical::{cap_of, SphericalLight};
-use crate::sh::harmonics::ShEvaluator;
-use crate::sh::legendre::legendre_polynomials;
+use crate::sh::evaluation::harmonics::ShEvaluator;
 use crate::sh::num_coeffs;
-use crate::sh::wigner::RealWignerD;
+use crate::sh::recursion::legendre::legendre_polynomials;
+use crate::sh::rotation::wigner_d::RealWignerD;
 use nalgebra::{DMatrix, Rotation3, Vector3};
 
 /// A signal pre-convolved with the mother functions of an ISD basis.

@@ -3,8 +3,8 @@
 
 use super::pi_l;
 use crate::error::Result;
-use crate::sh::legendre::legendre_polynomials;
-use crate::sh::zonal::zonal_coefficients;
+use crate::sh::evaluation::zonal::zonal_coefficients;
+use crate::sh::recursion::legendre::legendre_polynomials;
 use nalgebra::DMatrix;
 
 /// The profile `g_l(t)`, `t = w . z`, of the band-`l` mother function.

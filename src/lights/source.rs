@@ -4,7 +4,7 @@
 use crate::error::Result;
 
 /// The light field at one shading point: `coefficients[l*l + l + m] = L_lm(x)`, and when
-/// requested its gradients and packed Hessians (order [`crate::sh::solid::HESSIAN_ENTRIES`]) in `x`.
+/// requested its gradients and packed Hessians (order [`crate::sh::evaluation::solid::HESSIAN_ENTRIES`]) in `x`.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct LightField {
     /// `L_lm(x)` in flat order `l*l + l + m` (SHH (2)).

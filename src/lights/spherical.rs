@@ -15,14 +15,14 @@
 //!
 //! Gradients and Hessians are with respect to the shading point `x`. Written in
 //! `d = y - x`, `L_lm = E Lambda_l Y_lm(d) Ltilde_l(|d|)` with `Y_lm(d) = Y_lm(d/|d|)`
-//! differentiated by [`crate::sh::solid`]; `grad_x = -grad_d` (the minus sign of
+//! differentiated by [`crate::sh::evaluation::solid`]; `grad_x = -grad_d` (the minus sign of
 //! SHH (6)) and `H_x = H_d`.
 
 use super::source::{LightField, Order};
 use crate::error::{finite, Error, Result};
-use crate::sh::legendre::legendre_polynomials;
+use crate::sh::evaluation::solid::{SolidHarmonics, HESSIAN_ENTRIES};
 use crate::sh::num_coeffs;
-use crate::sh::solid::{SolidHarmonics, HESSIAN_ENTRIES};
+use crate::sh::recursion::legendre::legendre_polynomials;
 use std::f64::consts::PI;
 
 /// A sphere of uniform radiance.
@@ -134,7 +134,7 @@ struct Work {
 }
 
 impl SphericalLights {
-    /// The lights, with SH up to `lmax` (at most [`crate::sh::solid::SOLID_MAX_DEGREE`]).
+    /// The lights, with SH up to `lmax` (at most [`crate::sh::evaluation::solid::SOLID_MAX_DEGREE`]).
     pub fn new(lights: Vec<SphericalLight>, lmax: usize) -> Result<Self> {
         Ok(Self {
             lights,

@@ -20,9 +20,9 @@
 use super::kernel::{ConvolutionKernel, KernelValue};
 use super::{in_index_set, Codomain, FieldArgument, PshMatrix, PshVector};
 use crate::error::{Error, Result};
-use crate::sh::grid::GaussLegendre;
-use crate::sh::harmonics::real_from_complex;
-use crate::sh::wigner::small_d_column;
+use crate::sh::evaluation::harmonics::real_from_complex;
+use crate::sh::rotation::small_d::small_d_column;
+use crate::sh::transform::grid::GaussLegendre;
 use crate::sh::{check_lmax, lm_index, num_coeffs};
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;

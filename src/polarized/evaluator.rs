@@ -7,7 +7,7 @@ use super::PshVector;
 use crate::error::{check_len, Error, Result};
 use crate::geometry::direction_angles;
 use crate::geometry::frame::{Frame, FrameField, ThetaPhiFrameField};
-use crate::sh::harmonics::ShEvaluator;
+use crate::sh::evaluation::harmonics::ShEvaluator;
 use crate::sh::num_coeffs;
 use crate::stokes::StokesVector;
 use crate::swsh::SpinEvaluator;
@@ -146,7 +146,7 @@ impl PshEvaluator {
 mod tests {
     use super::*;
     use crate::polarized::Codomain;
-    use crate::sh::harmonics::sh_real;
+    use crate::sh::evaluation::harmonics::sh_real;
     use crate::swsh::swsh;
     use crate::testing::{random_directions, random_psh};
 

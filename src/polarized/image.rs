@@ -4,16 +4,16 @@
 //! (e.g. the cube-map frame field of the shared environment maps) and converted to the
 //! theta-phi frame field of PSH (28) before they meet the basis (PSH (14)). Not exact (an
 //! image is not band-limited): the error is that of the midpoint rule per texel. The sums
-//! run order by order ([`crate::sh::order_sums`]): the work space is about the size of
+//! run order by order ([`crate::sh::transform::texel_sums`]): the work space is about the size of
 //! the output.
 
 use super::{Codomain, PshVector};
 use crate::error::{check_len, Error, Result};
 use crate::geometry::frame::FrameField;
 use crate::geometry::image_grid::PixelGrid;
-use crate::sh::column_recursion::Columns;
-use crate::sh::order_sums::order_sums;
-use crate::sh::pixel::{real_sums, Texels};
+use crate::sh::recursion::lambda::Columns;
+use crate::sh::transform::pixel::{real_sums, Texels};
+use crate::sh::transform::texel_sums::order_sums;
 use crate::sh::{lm_index, num_coeffs};
 use num_complex::Complex64;
 use rayon::prelude::*;

@@ -16,9 +16,9 @@
 use crate::error::Result;
 use crate::geometry::direction_angles;
 use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
-use crate::sh::harmonics::sh_complex;
+use crate::sh::evaluation::harmonics::sh_complex;
 use crate::sh::num_coeffs;
-use crate::sh::transform::ShTransform;
+use crate::sh::transform::sht::ShTransform;
 use crate::stokes::{StokesComponents, StokesVector};
 use crate::swsh::swsh;
 use crate::swsh::SpinTransform;

@@ -313,7 +313,7 @@ impl MatrixKernel<'_> {
     fn basis(&self, w: [f64; 3]) -> Result<Vec<[f64; 4]>> {
         let lmax = self.0.lmax;
         let (t, p) = crate::geometry::direction_angles(w)?;
-        let yr = crate::sh::harmonics::sh_real(lmax, t, p)?;
+        let yr = crate::sh::evaluation::harmonics::sh_real(lmax, t, p)?;
         let y2 = if lmax >= 2 {
             crate::swsh::swsh(2, lmax, t, p)?
         } else {

@@ -22,8 +22,8 @@
 use super::PshVector;
 use crate::error::{Error, Result};
 use crate::geometry::euler_zyz;
-use crate::sh::harmonics::cis_m;
-use crate::sh::wigner::{check_block_memory, for_each_small_d, SmallDHalf};
+use crate::sh::evaluation::harmonics::cis_m;
+use crate::sh::rotation::small_d::{check_block_memory, for_each_small_d, SmallDHalf};
 use nalgebra::Rotation3;
 use std::f64::consts::SQRT_2;
 use wide::f64x4;

@@ -3,7 +3,7 @@
 use super::{Codomain, PshVector};
 use crate::error::{check_len, finite_all, Error, Result};
 use crate::sh::num_coeffs;
-use crate::sh::transform::ShTransform;
+use crate::sh::transform::sht::ShTransform;
 use crate::swsh::SpinTransform;
 use num_complex::Complex64;
 
@@ -40,7 +40,7 @@ impl PshTransform {
     }
 
     /// The grid (values ring-major).
-    pub fn grid(&self) -> &crate::sh::grid::SphereGrid {
+    pub fn grid(&self) -> &crate::sh::transform::grid::SphereGrid {
         self.scalar.grid()
     }
 

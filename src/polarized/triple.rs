@@ -321,7 +321,7 @@ pub fn visibility_transfer_quadrature(v: &PshVector, lmax: usize) -> Result<PshM
     let mut vpad = vec![0.0; nb];
     vpad[..v.len()].copy_from_slice(v);
     let mut vis = vec![0.0; grid.len()];
-    crate::sh::transform::ShTransform::with_grid(big, grid.clone())?
+    crate::sh::transform::sht::ShTransform::with_grid(big, grid.clone())?
         .synthesis_real(&vpad, &mut vis)?;
     // fields[j * 4 + p][a]: basis function Y_{jp} at grid point a (zero outside PSH (31)).
     let mut fields = Vec::with_capacity(n * 4);
@@ -354,7 +354,7 @@ pub fn visibility_transfer_quadrature(v: &PshVector, lmax: usize) -> Result<PshM
 mod tests {
     use super::*;
     use crate::random::pseudo_random;
-    use crate::sh::harmonics::sh_complex;
+    use crate::sh::evaluation::harmonics::sh_complex;
     use crate::sh::lm_of_index;
     use crate::swsh::swsh;
 
@@ -414,7 +414,7 @@ mod tests {
     #[test]
     fn spin2_gaunt_matches_quadrature() {
         let (lmax, lv) = (4usize, 3usize);
-        let g = crate::sh::grid::SphereGrid::for_band_limit(lmax + lv).unwrap();
+        let g = crate::sh::transform::grid::SphereGrid::for_band_limit(lmax + lv).unwrap();
         let pts: Vec<_> = (0..g.len())
             .map(|a| {
                 let (t, p) = g.angles(a).unwrap();

@@ -28,8 +28,8 @@ use crate::polarized::{
     isotropy_defect, project_to_convolution, Codomain, PshMatrix, PshVector, SparsePshMatrix,
     Sparsity, TripleTable,
 };
-use crate::sh::grid::GaussLegendre;
-use crate::sh::harmonics::ShEvaluator;
+use crate::sh::evaluation::harmonics::ShEvaluator;
+use crate::sh::transform::grid::GaussLegendre;
 use crate::sh::{lm_index, num_coeffs};
 use rayon::prelude::*;
 use std::f64::consts::PI;

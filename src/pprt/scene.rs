@@ -279,6 +279,36 @@ impl EnvironmentSource {
 
 /// Objects, materials, environment (PSH coefficients, RGB, and their source) and camera,
 /// with a BVH over every triangle.
+///
+/// # Example
+///
+/// A white sphere under the Rayleigh sky, seen by a small camera: the ray through the
+/// image's centre hits the sphere where the geometry says.
+///
+/// ```
+/// use psh::optics::Lambertian;
+/// use psh::pprt::{Camera, Mesh, RayleighSky, Scene, SceneMaterial, SceneObject};
+/// # fn main() -> psh::Result<()> {
+/// let sky = RayleighSky::new(0.6, 1.0)?; // sun elevation and azimuth in radians
+/// let white = Lambertian::new(0.8)?;
+/// let scene = Scene::new(
+///     vec![SceneObject {
+///         mesh: Mesh::sphere([0.0, 0.0, 0.0], 1.0, 24, 48)?,
+///         material: 0,
+///     }],
+///     vec![SceneMaterial::Diffuse([white; 3])],
+///     sky.project(4)?, // the environment's PSH coefficients, l <= 4
+///     Camera::look_at([0.0, -4.0, 0.0], [0.0, 0.0, 0.0], 0.6, 32, 24)?,
+/// )?;
+/// assert_eq!(scene.triangle_count(), 2 * 24 * 48 - 2 * 48); // caps are fans
+/// // Straight at the centre: the sphere's surface, 3 units away (within its tessellation).
+/// let hit = scene.intersect([0.0, -4.0, 0.0], [0.0, 1.0, 0.0], 0.0).unwrap();
+/// assert!((hit.distance - 3.0).abs() < 0.01);
+/// // Beside the sphere: the sky.
+/// assert!(scene.intersect([0.0, -4.0, 0.0], [0.6, 0.8, 0.0], 0.0).is_none());
+/// # Ok(())
+/// # }
+/// ```
 pub struct Scene {
     objects: Vec<SceneObject>,
     materials: Vec<SceneMaterial>,

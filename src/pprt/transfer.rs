@@ -18,7 +18,7 @@ use crate::geometry::fibonacci_directions;
 use crate::geometry::frame::Frame;
 use crate::polarized::{PshVector, TripleTable};
 use crate::progress::{Progress, Silent};
-use crate::sh::harmonics::ShEvaluator;
+use crate::sh::evaluation::harmonics::ShEvaluator;
 use crate::sh::num_coeffs;
 use nalgebra::Rotation3;
 use rayon::prelude::*;

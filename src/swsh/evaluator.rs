@@ -2,7 +2,7 @@
 //! `swsh::recursion`, `O(lmax^2)` per direction.
 
 use crate::error::{check_len, Error, Result};
-use crate::sh::column_recursion::{Columns, HalfAngle};
+use crate::sh::recursion::lambda::{Columns, HalfAngle};
 use crate::sh::{lm_index, num_coeffs};
 use num_complex::Complex64;
 use std::sync::Arc;
@@ -101,7 +101,7 @@ impl SpinEvaluator {
         crate::error::finite("phi", phi)?;
         check_len("spin SH output", num_coeffs(self.lmax()), out.len())?;
         out.fill(Complex64::default());
-        let mut cis = crate::sh::harmonics::CisWalk::new(phi);
+        let mut cis = crate::sh::evaluation::harmonics::CisWalk::new(phi);
         self.for_each_order(theta, |m, l0, lambda| {
             let (c, s) = cis.at(m.unsigned_abs() as usize);
             let e = Complex64::new(c, m.signum() as f64 * s);
@@ -114,7 +114,7 @@ impl SpinEvaluator {
 }
 
 /// `Lambda_{l,-s}(theta) = (-1)^s sqrt((2l+1)/(4 pi)) d^l_{-s,-s}(theta)`, `l = |s|..=lmax`,
-/// into `out`, by the recursion of [`crate::sh::column_recursion`] at `m = m' = -s` in its
+/// into `out`, by the recursion of [`crate::sh::recursion::lambda`] at `m = m' = -s` in its
 /// difference form (`proofs/swsh.md`, "The diagonal order near the poles"): with
 /// `A_l = l (2l-1) / (l^2 - s^2)`, `B_l = ((l-1)^2 - s^2) / ((l-1)(2l-1))` and
 /// `A_l (c_l - B_l) = 1`, `delta_l = A_l B_l delta_{l-1} - A_l u d_{l-1}`,
@@ -159,7 +159,7 @@ mod tests {
         let mut out = vec![Complex64::default(); num_coeffs(lmax)];
         for spin in [-3i64, -2, 1, 2, 3] {
             let ev = SpinEvaluator::new(spin, lmax).unwrap();
-            for t in crate::sh::harmonics::tests::EDGE_THETAS {
+            for t in crate::sh::evaluation::harmonics::tests::EDGE_THETAS {
                 ev.values(t, 0.4, &mut out).unwrap();
                 let want = swsh(spin, lmax, t, 0.4).unwrap();
                 for l in 0..=lmax {

@@ -25,8 +25,8 @@ pub use transform::SpinTransform;
 
 use crate::error::{finite, Error, Result};
 use crate::geometry::check_theta;
-use crate::sh::harmonics::{cis_m, sh_complex};
-use crate::sh::wigner::SmallDRecursion;
+use crate::sh::evaluation::harmonics::{cis_m, sh_complex};
+use crate::sh::rotation::small_d::SmallDRecursion;
 use crate::sh::{check_lmax, lm_index, num_coeffs};
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -106,7 +106,7 @@ pub fn spin2_closed_form(l: usize, m: i64, theta: f64, phi: f64) -> Result<Compl
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sh::harmonics::sh_complex;
+    use crate::sh::evaluation::harmonics::sh_complex;
 
     #[test]
     fn spin_two_matches_psh_26_away_from_the_poles() {

@@ -1,14 +1,14 @@
 //! Spin-s transforms on the exact grid: synthesis `f = sum a_lm sY_lm` and analysis
 //! `a_lm = <sY_lm, f>` (PSH (32) for one spin component), with
 //! `sY_lm = Lambda_lm(theta) e^{i m phi}`, `Lambda_lm = (-1)^s sqrt((2l+1)/(4 pi)) d^l_{m,-s}`,
-//! on the order-major sweeps of `crate::sh::order_transform` (the code path of the
+//! on the order-major sweeps of `crate::sh::transform::sweeps` (the code path of the
 //! scalar transforms, at spin `s`).
 
 use super::evaluator::SpinEvaluator;
 use crate::error::{check_len, finite_complex, Result};
-use crate::sh::grid::SphereGrid;
 use crate::sh::num_coeffs;
-use crate::sh::order_transform::OrderTransform;
+use crate::sh::transform::grid::SphereGrid;
+use crate::sh::transform::sweeps::OrderTransform;
 use num_complex::Complex64;
 
 /// A planned spin-`s` transform pair for band limit `lmax`.
@@ -37,7 +37,7 @@ impl SpinTransform {
     pub fn with_grid(spin: i64, lmax: usize, grid: SphereGrid) -> Result<Self> {
         crate::sh::check_lmax(lmax)?;
         grid.check_band_limit(lmax)?;
-        crate::sh::order_transform::check_tables(lmax, &grid)?;
+        crate::sh::transform::sweeps::check_tables(lmax, &grid)?;
         let eval = SpinEvaluator::new(spin, lmax)?;
         Ok(Self {
             sweeps: OrderTransform::new(eval.columns.clone(), grid)?,

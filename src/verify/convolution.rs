@@ -7,7 +7,7 @@ use crate::polarized::{
     rotation_average, Codomain, ConvolutionKernel, KernelCoefficients, PshMatrix, PshTransform,
     SpinBlock22,
 };
-use crate::sh::zonal::zonal_coefficients;
+use crate::sh::evaluation::zonal::zonal_coefficients;
 use crate::testing::{random_kernel, random_psh, random_psh_matrix};
 
 pub fn checks() -> Vec<Check> {

@@ -9,9 +9,9 @@ use crate::isd::{pi_l, DirectionSet, Isd, Pattern, PreConvolved, Profile, Sharin
 use crate::lights::source::Order;
 use crate::lights::spherical::{SphericalLight, SphericalLights};
 use crate::random::pseudo_random;
-use crate::sh::harmonics::sh_real;
+use crate::sh::evaluation::harmonics::sh_real;
 use crate::sh::num_coeffs;
-use crate::sh::transform::ShTransform;
+use crate::sh::transform::sht::ShTransform;
 use crate::testing::random_directions;
 
 /// The checks of the isotropic spherical decomposition, in `psh verify`'s order.
@@ -297,7 +297,7 @@ fn jacobi_eigenvalues(mut a: nalgebra::DMatrix<f64>) -> Vec<f64> {
 /// `P_l(t)` for `l <= lmax`.
 fn legendre(lmax: usize, t: f64) -> Vec<f64> {
     let mut p = vec![0.0; lmax + 1];
-    crate::sh::legendre::legendre_polynomials(t, &mut p, None);
+    crate::sh::recursion::legendre::legendre_polynomials(t, &mut p, None);
     p
 }
 

@@ -4,9 +4,9 @@ use super::Check;
 use crate::error::Result;
 use crate::lights::source::{LightField, Order};
 use crate::lights::spherical::{half_angle, SphericalLight, SphericalLights};
-use crate::sh::grid::GaussLegendre;
-use crate::sh::harmonics::ShEvaluator;
-use crate::sh::solid::hessian_index;
+use crate::sh::evaluation::harmonics::ShEvaluator;
+use crate::sh::evaluation::solid::hessian_index;
+use crate::sh::transform::grid::GaussLegendre;
 use std::f64::consts::PI;
 
 pub fn checks() -> Vec<Check> {

@@ -4,9 +4,9 @@
 //! The fixtures are compiled into the library so that `psh verify` runs anywhere.
 
 use crate::error::{Error, Result};
-use crate::sh::legendre::{legendre_all, tri_index};
-use crate::sh::solid::{sh_derivatives, HESSIAN_ENTRIES};
-use crate::sh::wigner::small_d_block;
+use crate::sh::evaluation::solid::{sh_derivatives, HESSIAN_ENTRIES};
+use crate::sh::recursion::legendre::{legendre_all, tri_index};
+use crate::sh::rotation::small_d::small_d_block;
 use crate::sh::{gaunt, gaunt_product, real_gaunt, wigner_3j};
 use serde_json::Value;
 
@@ -196,7 +196,7 @@ pub fn gaunt_coefficients() -> Result<f64> {
 }
 
 /// SHH Table 1 reproduction: for each band `l` of `tests/fixtures/sh_hessian.json`, the
-/// mean squared error of the f64 Hessians of `psh::sh::solid` (all `m`, the 9 entries of
+/// mean squared error of the f64 Hessians of `psh::sh::evaluation::solid` (all `m`, the 9 entries of
 /// each matrix) against the oracle's, over the fixture's 8 directions.
 pub fn sh_hessian_table1() -> Result<Vec<(usize, f64)>> {
     let name = "sh_hessian.json";

@@ -14,7 +14,7 @@ use crate::polarized::{
     in_index_set, isotropic_pairs, project_operator, Codomain, FieldArgument, IsotropicMatrix,
     PshEvaluator, PshVector, SpinBlock22,
 };
-use crate::sh::grid::GaussLegendre;
+use crate::sh::transform::grid::GaussLegendre;
 use crate::sh::{lm_index, lm_of_index, num_coeffs};
 use crate::stokes::MuellerField;
 use nalgebra::Matrix4;

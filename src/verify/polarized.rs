@@ -272,7 +272,7 @@ fn spin2_block_diagonal() -> Result<f64> {
     let lmax = 6;
     let r = fig10_rotation()?;
     let m = rotation_coefficient_matrix(LinearBasis::Spin2, &r, lmax, lmax)?;
-    let d = crate::sh::wigner::WignerD::new(&r, lmax)?;
+    let d = crate::sh::rotation::wigner_d::WignerD::new(&r, lmax)?;
     let n = num_coeffs(lmax);
     let mut worst = 0.0f64;
     for i in 4..n {

@@ -1,11 +1,11 @@
-//! Checks of the SH gradients and Hessians via solid harmonics (`psh::sh::solid`, SHH
+//! Checks of the SH gradients and Hessians via solid harmonics (`psh::sh::evaluation::solid`, SHH
 //! Sec. 3.3 and 4).
 
 use super::Check;
 use crate::error::Result;
 use crate::geometry::{direction, direction_angles};
-use crate::sh::harmonics::sh_real;
-use crate::sh::solid::{hessian_index, SolidHarmonics};
+use crate::sh::evaluation::harmonics::sh_real;
+use crate::sh::evaluation::solid::{hessian_index, SolidHarmonics};
 
 pub fn checks() -> Vec<Check> {
     vec![

@@ -3,7 +3,7 @@
 use super::Check;
 use crate::error::Result;
 use crate::random::pseudo_random;
-use crate::sh::grid::SphereGrid;
+use crate::sh::transform::grid::SphereGrid;
 use crate::sh::{lm_index, num_coeffs};
 use crate::swsh::SpinTransform;
 use crate::swsh::{spin2_closed_form, swsh};

@@ -11,7 +11,7 @@
 //! (SHG (14)-(18)) `U_l = int_0^T P_l(h(t)) / ell(t) dt` with `ell(t)` the distance from
 //! the shading point to the light's edge along `w(t)`.
 
-use crate::sh::grid::GaussLegendre;
+use crate::sh::transform::grid::GaussLegendre;
 use std::sync::OnceLock;
 
 /// One arc of a spherical polygon.

@@ -13,9 +13,9 @@ use super::boundary::{cross, dot, norm};
 use super::clip::ClippedPolygon;
 use super::PolygonalLight;
 use crate::error::Result;
-use crate::sh::grid::GaussLegendre;
-use crate::sh::harmonics::ShEvaluator;
-use crate::sh::solid::SolidHarmonics;
+use crate::sh::evaluation::harmonics::ShEvaluator;
+use crate::sh::evaluation::solid::SolidHarmonics;
+use crate::sh::transform::grid::GaussLegendre;
 
 /// A triangle as an anchor (relative to `x`) and its vertices relative to the anchor:
 /// subdividing the small offsets keeps the pieces an exact tiling to `eps` of the

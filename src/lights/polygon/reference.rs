@@ -13,10 +13,10 @@
 use super::cubature::{add_gradients, add_values, fan, rule, Anchored};
 use super::PolygonalLight;
 use crate::error::{Error, Result};
-use crate::sh::grid::GaussLegendre;
-use crate::sh::harmonics::ShEvaluator;
+use crate::sh::evaluation::harmonics::ShEvaluator;
+use crate::sh::evaluation::solid::SolidHarmonics;
 use crate::sh::num_coeffs;
-use crate::sh::solid::SolidHarmonics;
+use crate::sh::transform::grid::GaussLegendre;
 
 /// Gauss-Legendre points per direction of the triangle rule.
 const NODES: usize = 12;

@@ -11,7 +11,7 @@
 //! [`OWN_CANDIDATES`] windows further along it.
 
 use crate::error::{Error, Result};
-use crate::sh::harmonics::ShEvaluator;
+use crate::sh::evaluation::harmonics::ShEvaluator;
 use nalgebra::DMatrix;
 use std::f64::consts::PI;
 

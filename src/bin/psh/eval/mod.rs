@@ -24,7 +24,7 @@ pub enum Eval {
     /// Spin-weighted SH sY_lm, l <= lmax, at many directions (a .npy of [theta, phi] rows),
     /// written as a .npy of shape [points, (lmax+1)^2, 2] (flat order, [re, im]).
     SwshPoints(arrays::SwshPointsArgs),
-    /// Real SH (PSH (12)) with their Cartesian gradients and Hessians (psh::sh::solid) at
+    /// Real SH (PSH (12)) with their Cartesian gradients and Hessians (psh::sh::SolidHarmonics) at
     /// many unit directions (a .npy of [x, y, z] rows), written as a .npy of shape
     /// [points, (lmax+1)^2, 10]: value, gradient x, y, z, Hessian xx, xy, xz, yy, yz, zz.
     ShDerivatives(arrays::ShDerivativesArgs),

@@ -2,7 +2,7 @@
 //! 4.1, 4.2).
 //!
 //! **Which function is differentiated.** The real SH `Y_lm` of PSH (12) (psh's
-//! convention, Condon-Shortley sign, [`super::harmonics::sh_real`]) are extended from the
+//! convention, Condon-Shortley sign, [`crate::sh::evaluation::harmonics::sh_real`]) are extended from the
 //! unit sphere to `R^3 \ {0}` as functions homogeneous of degree 0,
 //! `Y_lm(x) := Y_lm(x / |x|)`. The gradient `grad Y_lm` and the Hessian `H Y_lm` returned
 //! here are the Cartesian first and second derivatives of that extension, evaluated at a
@@ -25,10 +25,10 @@
 //! three-term recurrence in `l` as the normalized Legendre functions, SHH (13) scaled by
 //! `K_lm`), so no factorial grows: values stay finite for `l <= SOLID_MAX_DEGREE`.
 
-use super::legendre::diagonal_factor;
-use super::num_coeffs;
 use crate::error::{check_len, Result};
 use crate::geometry::check_direction;
+use crate::sh::index::num_coeffs;
+use crate::sh::recursion::legendre::diagonal_factor;
 use rayon::prelude::*;
 use std::f64::consts::{PI, SQRT_2};
 
@@ -153,7 +153,7 @@ struct Scratch {
 impl SolidHarmonics {
     /// Tables for all degrees `l <= lmax` (at most [`SOLID_MAX_DEGREE`]).
     pub fn new(lmax: usize) -> Result<Self> {
-        super::check_degree_limit(
+        crate::sh::check_degree_limit(
             "lmax",
             lmax,
             SOLID_MAX_DEGREE,
@@ -506,8 +506,8 @@ pub fn sh_derivatives(lmax: usize, w: [f64; 3]) -> Result<Derivatives> {
 mod tests {
     use super::*;
     use crate::geometry::{direction, direction_angles};
-    use crate::sh::harmonics::sh_real;
-    use crate::sh::lm_index;
+    use crate::sh::evaluation::harmonics::sh_real;
+    use crate::sh::index::lm_index;
 
     fn dirs() -> Vec<[f64; 3]> {
         let mut d: Vec<[f64; 3]> = (0..23)

@@ -4,13 +4,13 @@
 //!   `Y_{l,-m} = (-1)^m conj(Y_lm)`;
 //! - `Y^R_lm = sqrt(2) Re Y_lm` (m > 0), `Y_l0` (m = 0), `sqrt(2) Im Y_{l|m|}` (m < 0).
 //!
-//! Values are stored in flat order `l*l + l + m` ([`super::lm_index`]).
+//! Values are stored in flat order `l*l + l + m` ([`crate::sh::lm_index`]).
 
-use super::cartesian;
-use super::legendre::{for_each_column_accurate, Legendre, Polar};
-use super::{lm_index, num_coeffs};
 use crate::error::{check_len, finite, Result};
 use crate::geometry::{check_direction, check_theta, direction_angles, UNIT_TOLERANCE};
+use crate::sh::evaluation::cartesian;
+use crate::sh::index::{lm_index, num_coeffs};
+use crate::sh::recursion::legendre::{for_each_column_accurate, Legendre, Polar};
 use num_complex::Complex64;
 use rayon::prelude::*;
 use std::f64::consts::SQRT_2;
@@ -146,7 +146,7 @@ impl ShEvaluator {
     /// An accurate (double-double) evaluator for all degrees `l <= lmax`; its batch
     /// evaluation is not vectorized.
     pub fn accurate(lmax: usize) -> Result<Self> {
-        super::check_lmax(lmax)?;
+        crate::sh::check_lmax(lmax)?;
         Ok(Self {
             lmax,
             legendre: None,

@@ -1,12 +1,12 @@
 //! [`GauntTable`]: every nonzero Gaunt coupling needed to multiply two band-limited SH
-//! expansions, complex ([`crate::sh::gaunt::gaunt_product`]) or real
-//! ([`crate::sh::gaunt::real_gaunt`]); the sparse tensor behind SH products and the spin-0
+//! expansions, complex ([`crate::sh::coupling::gaunt::gaunt_product`]) or real
+//! ([`crate::sh::coupling::gaunt::real_gaunt`]); the sparse tensor behind SH products and the spin-0
 //! triple products of PSH (55).
 
-use super::gaunt::{gaunt_prefactor, real_coupling};
-use super::wigner3j::{row_unchecked, MAX_GAUNT_DEGREE};
 use crate::error::{Error, Result};
-use crate::sh::{lm_index, num_coeffs};
+use crate::sh::coupling::gaunt::{gaunt_prefactor, real_coupling};
+use crate::sh::coupling::wigner3j::{row_unchecked, MAX_GAUNT_DEGREE};
+use crate::sh::index::{lm_index, num_coeffs};
 use std::ops::{Add, Mul};
 
 /// Largest `lmax_a`, `lmax_b` accepted by [`GauntTable::new`]. The table holds
@@ -18,9 +18,9 @@ pub const MAX_TABLE_DEGREE: usize = 32;
 /// Which spherical harmonics a [`GauntTable`] couples.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum GauntBasis {
-    /// Complex SH of PSH (1): entries `∫ conj(Y_out) Y_a Y_b` ([`gaunt_product`](crate::sh::gaunt::gaunt_product)).
+    /// Complex SH of PSH (1): entries `∫ conj(Y_out) Y_a Y_b` ([`gaunt_product`](crate::sh::coupling::gaunt::gaunt_product)).
     Complex,
-    /// Real SH of PSH (12): entries `∫ Y^R_out Y^R_a Y^R_b` ([`real_gaunt`](crate::sh::gaunt::real_gaunt)).
+    /// Real SH of PSH (12): entries `∫ Y^R_out Y^R_a Y^R_b` ([`real_gaunt`](crate::sh::coupling::gaunt::real_gaunt)).
     Real,
 }
 
@@ -238,9 +238,9 @@ impl GauntTable {
 mod tests {
     use super::*;
     use crate::random::pseudo_random;
-    use crate::sh::gaunt::tests::{integrate, poly_mul, real_y, Poly};
-    use crate::sh::gaunt::{gaunt_product, real_gaunt};
-    use crate::sh::lm_of_index;
+    use crate::sh::coupling::gaunt::tests::{integrate, poly_mul, real_y, Poly};
+    use crate::sh::coupling::gaunt::{gaunt_product, real_gaunt};
+    use crate::sh::index::lm_of_index;
     use num_complex::Complex64;
 
     #[test]

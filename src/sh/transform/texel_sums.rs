@@ -5,7 +5,7 @@
 //! a_{lm r} = sum_i conj(sY_lm(w_i)) z_{ir} = sum_i Lambda_lm(theta_i) e^{-i m phi_i} z_{ir}
 //! ```
 //!
-//! (`sY_lm = Lambda_lm(theta) e^{i m phi}`, [`super::column_recursion`]) for every
+//! (`sY_lm = Lambda_lm(theta) e^{i m phi}`, [`crate::sh::recursion::lambda`]) for every
 //! `l <= lmax` of the orders chosen. The orders are split into ranges of about equal work,
 //! run in parallel. A range's task walks the texels, [`LANES`] at a time, runs the
 //! recursion of its own orders only and holds the sums of its own coefficients: the work
@@ -14,7 +14,7 @@
 //! partial sums added in block order. The ranges and blocks depend on the sizes only, so
 //! that the result is the same bit for bit for any number of threads.
 
-use super::column_recursion::{Columns, HalfAngle};
+use crate::sh::recursion::lambda::{Columns, HalfAngle};
 use num_complex::Complex64;
 use rayon::prelude::*;
 use std::ops::Range;

@@ -1,5 +1,5 @@
 //! Gaunt coefficients: integrals of products of three spherical harmonics, complex
-//! (PSH (1)) and real (PSH (12)), from the Wigner 3j symbols of [`crate::sh::wigner3j`].
+//! (PSH (1)) and real (PSH (12)), from the Wigner 3j symbols of [`crate::sh::coupling::wigner3j`].
 //!
 //! # Conventions
 //! * Complex SH: `Y_lm = A_lm P_l^m(cos theta) e^{i m phi}` with the Condon-Shortley
@@ -20,13 +20,13 @@
 //!   [`gaunt_product`]: `∫ conj(Y_{lm}) Y_{l1 m1} Y_{l2 m2} dω`, the coupling of a product of
 //!   two complex SH expansions (PSH (55));
 //!   [`real_gaunt`]: `∫ Y^R_{l1 m1} Y^R_{l2 m2} Y^R_{l3 m3} dω`.
-//! * Tables of every coupling of two expansions: [`crate::sh::gaunt_table`].
+//! * Tables of every coupling of two expansions: [`crate::sh::coupling::gaunt_table`].
 //!
-//! Degrees up to [`MAX_GAUNT_DEGREE`](super::MAX_GAUNT_DEGREE) are accepted; the coefficients add a few roundings to
+//! Degrees up to [`MAX_GAUNT_DEGREE`](crate::sh::MAX_GAUNT_DEGREE) are accepted; the coefficients add a few roundings to
 //! the 3j symbols' (relative error below `1e-15`).
 
-use super::wigner3j::{check_degree_order, triangle, wigner_3j_checked};
 use crate::error::Result;
+use crate::sh::coupling::wigner3j::{check_degree_order, triangle, wigner_3j_checked};
 use num_complex::Complex64;
 
 /// `1/sqrt(4 pi)`, the constant of DLMF §34.3(vii) (Gaunt's integral).
@@ -44,7 +44,7 @@ pub(super) fn gaunt_prefactor(l1: usize, l2: usize, l3: usize) -> f64 {
 /// included). No conjugation: for the coupling of a product use [`gaunt_product`].
 ///
 /// Exact zero unless `m1+m2+m3 = 0`, the triangle condition holds and `l1+l2+l3` is even.
-/// Errors: [`crate::Error::DegreeOutOfRange`] (degree above [`MAX_GAUNT_DEGREE`](super::MAX_GAUNT_DEGREE)),
+/// Errors: [`crate::Error::DegreeOutOfRange`] (degree above [`MAX_GAUNT_DEGREE`](crate::sh::MAX_GAUNT_DEGREE)),
 /// [`crate::Error::OrderOutOfRange`] (`|m_i| > l_i`).
 pub fn gaunt(l1: usize, m1: i64, l2: usize, m2: i64, l3: usize, m3: i64) -> Result<f64> {
     check_degree_order("l1", "m1", l1, m1)?;
@@ -132,9 +132,9 @@ pub(super) fn real_coupling(m: [i64; 3]) -> Option<([i64; 3], f64)> {
         };
         debug_assert!(pattern.is_none() || pattern == Some(canonical));
         pattern = Some(canonical);
-        total += super::harmonics::real_from_complex(m[0], mu[0])
-            * super::harmonics::real_from_complex(m[1], mu[1])
-            * super::harmonics::real_from_complex(m[2], mu[2]);
+        total += crate::sh::evaluation::harmonics::real_from_complex(m[0], mu[0])
+            * crate::sh::evaluation::harmonics::real_from_complex(m[1], mu[1])
+            * crate::sh::evaluation::harmonics::real_from_complex(m[2], mu[2]);
     }
     let pattern = pattern?;
     let nonzero = a.iter().filter(|&&x| x != 0).count();
@@ -184,8 +184,8 @@ pub(super) mod tests {
     use super::*;
     use crate::error::Error;
     use crate::random::pseudo_random;
-    use crate::sh::lm_of_index;
-    use crate::sh::wigner3j::tests::pick;
+    use crate::sh::coupling::wigner3j::tests::pick;
+    use crate::sh::index::lm_of_index;
 
     /// A polynomial in (x, y, z) on the unit sphere: (exponents, complex coefficient).
     pub(crate) type Poly = Vec<([u32; 3], Complex64)>;

@@ -1,10 +1,10 @@
 //! The order-major transforms on the exact grid, for any spin `s` (spin 0: the scalar SH
-//! of [`super::ShTransform`], `Lambda_lm = Pbar_lm`; spin `s`: `crate::swsh::SpinTransform`):
+//! of [`crate::sh::ShTransform`], `Lambda_lm = Pbar_lm`; spin `s`: `crate::swsh::SpinTransform`):
 //! synthesis `f = sum a_lm sY_lm` and analysis `a_lm = <sY_lm, f>` (PSH (2), (3), and
 //! PSH (32) for one spin component), `sY_lm = Lambda_lm(theta) e^{i m phi}` with the
-//! recursion of [`super::column_recursion`].
+//! recursion of [`crate::sh::recursion::lambda`].
 //!
-//! The grid is the one of [`super::grid`]: `Lambda_lm Lambda_l'm` is a polynomial of
+//! The grid is the one of [`crate::sh::transform::grid`]: `Lambda_lm Lambda_l'm` is a polynomial of
 //! degree `l + l'` in `cos theta` (times `sin^2s`-free half-angle powers that pair up,
 //! `proofs/swsh.md`), so `lmax + 1` rings integrate the analysis exactly. Its rings come
 //! in mirror pairs `theta, pi - theta`, on which
@@ -21,11 +21,11 @@
 //! rings near the poles while their values are negligible (below `2^-64`, bound in
 //! `proofs/swsh.md`).
 
-use super::column_recursion::{Column, Columns, HalfAngle, StartWalk};
-use super::grid::SphereGrid;
-use super::legendre::{lane_scale, rescale_lanes, LANE_BLOCK};
-use super::lm_index;
 use crate::error::Result;
+use crate::sh::index::lm_index;
+use crate::sh::recursion::lambda::{Column, Columns, HalfAngle, StartWalk};
+use crate::sh::recursion::legendre::{lane_scale, rescale_lanes, LANE_BLOCK};
+use crate::sh::transform::grid::SphereGrid;
 use num_complex::Complex64;
 use rayon::prelude::*;
 use rustfft::{Fft, FftPlanner};
@@ -725,7 +725,7 @@ fn sweep_degrees<S: Sweep>(
         let [a1, b1, c1] = coeffs[k + 1].map(f64x4::splat);
         let step = |p1: &mut f64x4, p2: &mut f64x4, u: f64x4| {
             // (c p1 - B p2) - u p1, not (c - u) p1 - B p2: at c = 1 (spin 0) `1 - u` would
-            // round cos(theta) and lose near the poles what u keeps (`sh::legendre`).
+            // round cos(theta) and lose near the poles what u keeps (`sh::recursion::legendre`).
             let p = a0 * u.mul_neg_add(*p1, b0.mul_neg_add(*p2, c0 * *p1));
             let q = a1 * u.mul_neg_add(p, b1.mul_neg_add(*p1, c1 * p));
             *p2 = p;

@@ -1,23 +1,23 @@
 //! Real SH PSH (12) of small degree at unit vectors from their Cartesian coordinates, four
-//! directions per SIMD vector: the batch kernel of [`super::ShEvaluator::real_batch`] for
+//! directions per SIMD vector: the batch kernel of [`crate::sh::ShEvaluator::real_batch`] for
 //! `lmax <= CARTESIAN_LMAX`.
 //!
 //! With `rho = sin theta` and `Pbar_lm = Qbar_lm rho^m`, the real SH are
 //! `Y^R_{l,+-m} = sqrt(2) Qbar_lm Re/Im (x + i y)^m` (`rho^m e^{i m phi} = (x + i y)^m`) and
 //! `Y^R_{l0} = Qbar_l0`, where `Qbar_lm` obeys the column recursion of
-//! [`super::legendre`] (it does not depend on `rho`) from the diagonal
+//! [`crate::sh::recursion::legendre`] (it does not depend on `rho`) from the diagonal
 //! `Qbar_mm = -sqrt((2m+1)/(2m)) Qbar_{m-1,m-1}`, `Qbar_00 = 1/sqrt(4 pi)` (the form of
 //! sphericart, Bigi et al., J. Chem. Phys. 159 (2023)). No angle, no square root but the
 //! normalization of the direction, and no exponent scaling: at these degrees `Qbar_lm` is
 //! far inside the f64 range (it is a polynomial in `z` of degree `l - m`, at most
 //! `Pbar_lm(theta) / sin^m theta <= sqrt((2l+1)/(4 pi)) l^m`), and the powers `(x + i y)^m`
 //! only underflow where the harmonic is below `2^-1000`.
-//! As in [`super::legendre`], the recursion runs in `u = 1 - |z| = rho^2 / (1 + |z|)` on the
+//! As in [`crate::sh::recursion::legendre`], the recursion runs in `u = 1 - |z| = rho^2 / (1 + |z|)` on the
 //! northern mirror of each direction (full relative accuracy near the poles), with
 //! `Pbar_lm(pi - theta) = (-1)^{l+m} Pbar_lm(theta)` for the southern ones.
 
-use super::legendre::Legendre;
-use super::lm_index;
+use crate::sh::index::lm_index;
+use crate::sh::recursion::legendre::Legendre;
 use std::f64::consts::{PI, SQRT_2};
 use wide::{f64x4, CmpLt};
 

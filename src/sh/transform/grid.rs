@@ -89,7 +89,7 @@ impl GaussLegendre {
 /// in `u = 1 - cos t = 2 sin^2(t/2)` (`proofs/quadrature.md`, "Nodes near the poles"):
 /// `delta_{k+1} = (k delta_k - (2k+1) u P_k) / (k+1)`, `P_{k+1} = P_k + delta_{k+1}`,
 /// which keeps what `cos t` rounded to a double would lose (an error `eps / sin t` in the
-/// angle of the root). Elsewhere [`super::legendre::legendre_polynomials`], whose loss
+/// angle of the root). Elsewhere [`crate::sh::recursion::legendre::legendre_polynomials`], whose loss
 /// `eps / sin t` is at most `1.2 eps` there.
 fn legendre_p_and_dtheta(n: usize, t: f64) -> (f64, f64) {
     if n == 0 {
@@ -109,7 +109,7 @@ fn legendre_p_and_dtheta(n: usize, t: f64) -> (f64, f64) {
         return (p, n as f64 * (delta - u * p) / s);
     }
     let mut p = vec![0.0; n + 1];
-    super::legendre::legendre_polynomials(x, &mut p, None);
+    crate::sh::recursion::legendre::legendre_polynomials(x, &mut p, None);
     // (x^2 - 1) = -sin^2 t, written so to keep its relative accuracy near the poles.
     (p[n], n as f64 * (x * p[n] - p[n - 1]) / s)
 }
@@ -141,7 +141,7 @@ impl SphereGrid {
     /// The smallest grid that integrates products of two functions of band limit `lmax`
     /// exactly: `lmax + 1` rings, `2 lmax + 2` meridians (even, for the FFT).
     pub fn for_band_limit(lmax: usize) -> Result<Self> {
-        super::check_lmax(lmax)?;
+        crate::sh::check_lmax(lmax)?;
         Self::new(lmax + 1, 2 * lmax + 2)
     }
 

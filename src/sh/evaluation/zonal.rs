@@ -10,11 +10,11 @@
 //! the addition theorem `P_l(n . w) = 4 pi / (2l + 1) sum_m Y_lm(w) conj(Y_lm(n))`
 //! (DLMF 14.30.9). Derivations in `proofs/zonal.md`.
 
-use super::harmonics::{sh_complex, sh_real};
-use super::legendre::zonal_legendre;
-use super::{check_lmax, num_coeffs};
 use crate::error::{check_len, Error, Result};
 use crate::geometry::{check_direction, direction_angles};
+use crate::sh::evaluation::harmonics::{sh_complex, sh_real};
+use crate::sh::index::{check_lmax, num_coeffs};
+use crate::sh::recursion::legendre::zonal_legendre;
 use num_complex::Complex64;
 use std::f64::consts::PI;
 

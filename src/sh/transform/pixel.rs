@@ -1,13 +1,13 @@
 //! Projection of sampled images onto SH: `f_lm ~ sum_i Omega_i f(w_i) Y_lm(w_i)`, the
 //! texel-wise quadrature of PSH (3) with exact per-texel solid angles `Omega_i`
-//! ([`crate::geometry::image_grid`]), summed order by order ([`super::order_sums`]). Not
+//! ([`crate::geometry::image_grid`]), summed order by order ([`crate::sh::transform::texel_sums`]). Not
 //! exact (an image is not band-limited): the error is that of the midpoint rule per texel.
 
-use super::column_recursion::Columns;
-use super::order_sums::{order_sums, Site};
-use super::{check_lmax, lm_index, num_coeffs};
 use crate::error::{check_len, finite, Result};
 use crate::geometry::image_grid::PixelGrid;
+use crate::sh::index::{check_lmax, lm_index, num_coeffs};
+use crate::sh::recursion::lambda::Columns;
+use crate::sh::transform::texel_sums::{order_sums, Site};
 use num_complex::Complex64;
 use std::f64::consts::SQRT_2;
 use std::sync::Mutex;
@@ -45,7 +45,7 @@ impl Texels {
 /// each coefficient of `l <= lmax` (flat index `lm`), `put` locked once per order. From
 /// the sums `a_lm = sum_i conj(Y_lm(w_i)) v_i` of the orders `m >= 0` ([`order_sums`]) and
 /// `Y^R_lm = sqrt(2) Re Y_lm`, `Y_l0`, `sqrt(2) Im Y_{l|m|}` (`m > 0`, `0`, `< 0`;
-/// [`super::harmonics`]): `f_l0 = Re a_l0`, `f_lm = sqrt(2) Re a_lm`,
+/// [`crate::sh::evaluation::harmonics`]): `f_l0 = Re a_l0`, `f_lm = sqrt(2) Re a_lm`,
 /// `f_{l,-m} = -sqrt(2) Im a_lm`.
 pub(crate) fn real_sums(
     lmax: usize,
@@ -126,8 +126,8 @@ pub fn project_real_channels(
 mod tests {
     use super::*;
     use crate::geometry::image_grid::{CubeCross, Equirect};
-    use crate::sh::harmonics::ShEvaluator;
-    use crate::sh::{lm_index, num_coeffs};
+    use crate::sh::evaluation::harmonics::ShEvaluator;
+    use crate::sh::index::{lm_index, num_coeffs};
 
     /// A low-order function sampled on fine images projects to its coefficients up to the
     /// midpoint-rule error, which falls like 1/edge^2.

@@ -13,7 +13,7 @@
 //!
 //! # Accuracy and limits
 //! Degrees up to [`MAX_GAUNT_DEGREE`] are accepted. The recursion runs in double-double
-//! arithmetic (`sh::double_double`, about 106 bits) on values rescaled by
+//! arithmetic (`sh::recursion::double_double`, about 106 bits) on values rescaled by
 //! exact powers of two, so nothing overflows and the only sizeable error of a 3j symbol is
 //! its final rounding to f64: against exact values (Racah's formula in rational arithmetic,
 //! `crate::exact::wigner3j`) the symbols are within one ulp, in practice correctly rounded,
@@ -25,9 +25,9 @@
 //! vanish) give exact zeros without computation. Cost: about 60-120 ns per symbol of a row
 //! (double-double with and without hardware FMA).
 
-use super::double_double::Dd;
 use crate::error::{Error, Result};
-use crate::sh::MAX_DEGREE;
+use crate::sh::index::MAX_DEGREE;
+use crate::sh::recursion::double_double::Dd;
 
 /// Largest degree accepted by the 3j and Gaunt routines, for each of `l1, l2, l3`: twice
 /// [`MAX_DEGREE`], so that the product of two expansions of degree `MAX_DEGREE` can be

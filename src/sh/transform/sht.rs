@@ -5,15 +5,15 @@
 //! synthesis `f(theta_j, phi_k) = sum_m e^{i m phi_k} sum_l f_lm Pbar_lm(theta_j)`,
 //! analysis `f_lm = sum_j w_j (2 pi / n_phi) Pbar_lm(theta_j) sum_k f(theta_j, phi_k) e^{-i m phi_k}`,
 //! exact for band-limited input on a grid that resolves the band limit (see
-//! [`super::grid`]). They run on the order-major sweeps of [`super::order_transform`] at
+//! [`crate::sh::transform::grid`]). They run on the order-major sweeps of [`crate::sh::transform::sweeps`] at
 //! spin 0 (`Pbar_lm = Lambda_lm`, the code path of the spin transforms); real fields use
 //! the orders `m >= 0` alone and pack the two rings of a mirror pair into one complex FFT.
 
-use super::column_recursion::Columns;
-use super::grid::SphereGrid;
-use super::order_transform::OrderTransform;
-use super::{lm_index, num_coeffs};
 use crate::error::{check_len, finite_all, finite_complex, Result};
+use crate::sh::index::{lm_index, num_coeffs};
+use crate::sh::recursion::lambda::Columns;
+use crate::sh::transform::grid::SphereGrid;
+use crate::sh::transform::sweeps::OrderTransform;
 use num_complex::Complex64;
 use std::f64::consts::{FRAC_1_SQRT_2, SQRT_2};
 use std::sync::Arc;
@@ -42,9 +42,9 @@ impl ShTransform {
 
     /// Transform for band limit `lmax` on a given grid (checked to resolve it).
     pub fn with_grid(lmax: usize, grid: SphereGrid) -> Result<Self> {
-        super::check_lmax(lmax)?;
+        crate::sh::check_lmax(lmax)?;
         grid.check_band_limit(lmax)?;
-        super::order_transform::check_tables(lmax, &grid)?;
+        crate::sh::transform::sweeps::check_tables(lmax, &grid)?;
         Ok(Self {
             sweeps: OrderTransform::new(Arc::new(Columns::new(0, lmax)), grid)?,
         })
@@ -122,7 +122,7 @@ impl ShTransform {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sh::harmonics::ShEvaluator;
+    use crate::sh::evaluation::harmonics::ShEvaluator;
 
     use crate::random::pseudo_random;
 

@@ -2,12 +2,12 @@
 //! `sY_lm = Lambda_lm(theta) e^{i m phi}`,
 //! `Lambda_lm = (-1)^s sqrt((2l+1)/(4 pi)) d^l_{m,-s}`: its coefficients and its starts.
 //! At spin 0, `Lambda_lm = Pbar_lm` (`d^l_{m0} = sqrt((l-m)!/(l+m)!) P_l^m`): the scalar
-//! transforms of [`super::ShTransform`] run on it as the spin transforms of
+//! transforms of [`crate::sh::ShTransform`] run on it as the spin transforms of
 //! `crate::swsh` do.
 //!
 //! Per polar angle, `Lambda_lm` for `l = l0..=lmax` (`l0 = max(|m|, |s|)`) comes from the
 //! three-term recursion of the Wigner d in `l` at fixed `(m, m')`, in the `u = 1 - cos theta`
-//! form of [`crate::sh::legendre`] (derived in `proofs/swsh.md`):
+//! form of [`crate::sh::recursion::legendre`] (derived in `proofs/swsh.md`):
 //!
 //! `d^l = A_l ((c_l - u) d^{l-1} - B_l d^{l-2})`, `A_l = l (2l-1) / sqrt((l^2-m^2)(l^2-m'^2))`,
 //! `B_l = sqrt(((l-1)^2-m^2)((l-1)^2-m'^2)) / ((l-1)(2l-1))`, `c_l = 1 - m m' / (l (l-1))`,
@@ -18,9 +18,11 @@
 //! follows from the start of order `m -+ 1` by one factor (the diagonal step of
 //! `proofs/swsh.md`). Starts and recursions carry the exponent scaling of the Legendre
 //! recursion, so that nothing overflows or underflows, and run on many polar angles at
-//! once in lock step (lanes), as [`crate::sh::legendre::Legendre::for_each_column_lanes`].
+//! once in lock step (lanes), as [`crate::sh::recursion::legendre::Legendre::for_each_column_lanes`].
 
-use super::legendre::{lane_scale, rescale_lanes, BIG, LANE_BLOCK, SCALE_BITS, SMALL};
+use crate::sh::recursion::legendre::{
+    lane_scale, rescale_lanes, BIG, LANE_BLOCK, SCALE_BITS, SMALL,
+};
 use std::f64::consts::PI;
 use std::ops::Range;
 
@@ -133,7 +135,7 @@ impl Columns {
     /// (`|m|` increasing). The starts of the columns before are walked through (one factor
     /// each), the recursion runs for the columns handed over only.
     ///
-    /// As in [`super::legendre::Legendre::for_each_column_lanes`], values below the f64
+    /// As in [`crate::sh::recursion::legendre::Legendre::for_each_column_lanes`], values below the f64
     /// range carry a binary exponent (a multiple of `SCALE_BITS`), checked once per
     /// [`LANE_BLOCK`] steps; values still below `2^-SCALE_BITS` when handed over are
     /// negligible (they come out as zero or subnormal). `scratch` holds the column.

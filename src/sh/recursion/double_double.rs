@@ -56,7 +56,7 @@ fn two_prod(a: f64, b: f64) -> (f64, f64) {
     (p, ((ah * bh - p) + ah * bl + al * bh) + al * bl)
 }
 
-/// `pi/2` as a double-double (`PI_LO` of `crate::sh::legendre` halved).
+/// `pi/2` as a double-double (`PI_LO` of `crate::sh::recursion::legendre` halved).
 const FRAC_PI_2: Dd = Dd {
     hi: std::f64::consts::FRAC_PI_2,
     lo: 6.123_233_995_736_766e-17,

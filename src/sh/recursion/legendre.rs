@@ -27,10 +27,10 @@
 //! of the order of the rounding of the other terms and its effect, amplified like `l^2`,
 //! is lost; measured in `psh verify` (`sh.fast_path_l2048`, `sh.band_norm_l2048`).
 
-use super::check_lmax;
-use super::double_double::Dd;
 use crate::error::Result;
 use crate::geometry::check_theta;
+use crate::sh::index::check_lmax;
+use crate::sh::recursion::double_double::Dd;
 use std::ops::{Mul, Sub};
 
 /// Exponent step of the scaled recursion: values are `mantissa * 2^(-SCALE_BITS * k)`.
@@ -220,7 +220,7 @@ fn walk_columns<T: Arith>(
 
 /// Double-double walk of the columns `m = 0..=lmax` (see [`Legendre::for_each_column`]),
 /// with recursion coefficients computed on the fly in double-double: slower (about ten
-/// times) but accurate to a few `1e-15` at any degree up to [`super::MAX_DEGREE`].
+/// times) but accurate to a few `1e-15` at any degree up to [`crate::sh::MAX_DEGREE`].
 pub fn for_each_column_accurate(lmax: usize, polar: Polar, f: impl FnMut(usize, &[f64])) {
     columns_accurate(lmax, lmax, polar, f)
 }
@@ -612,6 +612,6 @@ mod tests {
     fn bad_input_is_an_error() {
         assert!(legendre_all(4, f64::NAN).is_err());
         assert!(legendre_all(4, -0.1).is_err());
-        assert!(legendre_all(super::super::MAX_DEGREE + 1, 0.1).is_err());
+        assert!(legendre_all(crate::sh::MAX_DEGREE + 1, 0.1).is_err());
     }
 }
