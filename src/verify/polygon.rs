@@ -16,7 +16,7 @@ pub fn checks() -> Vec<Check> {
         Check {
             id: "polygon.coefficients_vs_quadrature",
             source: "SHG (3)-(5)",
-            description: "SH coefficients l <= 20 of triangles and quads (small, large, near the horizon, clipped across it) vs adaptive Gauss-Legendre quadrature over the planar light to 1e-13 relative (max absolute error, unit radiance; relative errors are printed by tests/polygon.rs, at most 6e-15)",
+            description: "SH coefficients l <= 20 of triangles and quads (small, large, near the horizon, clipped across it) vs adaptive Gauss-Legendre quadrature over the planar light to 1e-13 relative (max absolute error, unit radiance; relative errors are printed by tests/library/polygon.rs, at most 6e-15)",
             tolerance: 1e-12,
             proof: Some("proofs/polygon-lights.md"),
             run: coefficients_vs_quadrature,
@@ -40,7 +40,7 @@ pub fn checks() -> Vec<Check> {
         Check {
             id: "polygon.hermite_order",
             source: "SHG Sec. 6.2",
-            description: "cubic Hermite serendipity interpolation on uniform grids (levels 1-4 of a 0.4-wide box 0.6-1.2 from a triangle and a quad, l <= 8): 4 minus the least-squares slope of log(max error) vs log(h) (the slope must be >= 3.5; tests/polygon.rs prints it with the trilinear and zero-cross-derivative Hermite slopes)",
+            description: "cubic Hermite serendipity interpolation on uniform grids (levels 1-4 of a 0.4-wide box 0.6-1.2 from a triangle and a quad, l <= 8): 4 minus the least-squares slope of log(max error) vs log(h) (the slope must be >= 3.5; tests/library/polygon.rs prints it with the trilinear and zero-cross-derivative Hermite slopes)",
             tolerance: 0.5,
             proof: Some("proofs/polygon-lights.md"),
             run: hermite_order,

@@ -1,7 +1,7 @@
 //! Isotropic spherical decomposition (`psh::isd`): filtering against Wigner rotation for
 //! random rotations (proptest), the conditioning claims of ISD Sec. 7.2, and bad input.
 //! The equivalence checks with fixed inputs are `psh verify --filter isd`
-//! (`tests/verify.rs`).
+//! (`tests/library/verify.rs`).
 
 use proptest::prelude::*;
 use psh::geometry::direction;

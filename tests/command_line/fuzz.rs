@@ -36,28 +36,27 @@ const TIMEOUT: Duration = Duration::from_secs(10);
 /// Worker threads.
 const WORKERS: usize = 2;
 
-/// splitmix64: the fuzzer's deterministic generator.
-struct Rng(u64);
+/// The fuzzer's choices, drawn from the crate's one generator ([`psh::random::Rng`]) by
+/// its top bits (an LCG's low bits have short periods).
+struct Rng(psh::random::Rng);
 
 impl Rng {
     /// The generator of case `case` of a category with seed `seed`.
     fn for_case(seed: u64, case: usize) -> Self {
-        let mut r = Rng(seed ^ (case as u64).wrapping_mul(0xa076_1d64_78bd_642f));
-        r.next();
-        r
+        Rng(psh::random::Rng::new(
+            seed ^ (case as u64).wrapping_mul(0xa076_1d64_78bd_642f),
+        ))
     }
 
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+    /// A byte from the top bits of the next state.
+    fn byte(&mut self) -> u8 {
+        (self.0.next_u64() >> 56) as u8
     }
 
     /// Uniform in `0..n` (0 when `n` is 0).
     fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
+        let n = n.max(1);
+        ((self.0.unit() * n as f64) as usize).min(n - 1)
     }
 
     fn pick<'a, T>(&mut self, xs: &'a [T]) -> &'a T {
@@ -292,7 +291,7 @@ struct Seeds {
 /// Isotropic matrices of `channels` channels to `lmax`, entries outside PSH (31) zero.
 fn matrix(lmax: usize, channels: usize, seed: u64) -> IsotropicMatrix {
     let pairs = isotropic_pairs(lmax);
-    let mut rng = Rng(seed);
+    let mut rng = Rng::for_case(seed, 0);
     let data: Vec<f64> = (0..channels * pairs.len() * 16)
         .map(|i| {
             let (jo, ji) = pairs[(i / 16) % pairs.len()];
@@ -571,7 +570,7 @@ fn mutate_bytes(rng: &mut Rng, seed: &[u8], other: &[u8]) -> Vec<u8> {
             1 if n > 0 => {
                 for _ in 0..1 + rng.below(8) {
                     let i = rng.below(n);
-                    let random = rng.next() as u8;
+                    let random = rng.byte();
                     b[i] = *rng.pick(&[0, 0xff, 0x7f, 0x80, b' ', b'0', b'9', random]);
                 }
             }
@@ -596,7 +595,7 @@ fn mutate_bytes(rng: &mut Rng, seed: &[u8], other: &[u8]) -> Vec<u8> {
             }
             6 => {
                 let at = rng.below(n + 1);
-                let junk: Vec<u8> = (0..1 + rng.below(16)).map(|_| rng.next() as u8).collect();
+                let junk: Vec<u8> = (0..1 + rng.below(16)).map(|_| rng.byte()).collect();
                 b.splice(at..at, junk);
             }
             _ if n >= 8 => {
@@ -817,7 +816,7 @@ fn edit_npy(rng: &mut Rng, npy: &[u8]) -> Vec<u8> {
                     data[i..i + 8].copy_from_slice(&x.to_le_bytes());
                 }
                 1 => data.truncate(rng.below(data.len() + 1)),
-                _ => data.extend((0..1 + rng.below(64)).map(|_| rng.next() as u8)),
+                _ => data.extend((0..1 + rng.below(64)).map(|_| rng.byte())),
             }
         }
     }
@@ -919,7 +918,7 @@ fn mutate_exr(rng: &mut Rng, seed: &[u8], other: &[u8]) -> Vec<u8> {
                 let w = at + 4 * rng.below(size / 4);
                 b[w..w + 4].copy_from_slice(&hostile_i32(rng).to_le_bytes());
             } else if size > 0 {
-                b[at] = rng.next() as u8;
+                b[at] = rng.byte();
             }
         }
         2 => {
@@ -1150,7 +1149,7 @@ fn replay_readers(seeds: &Seeds, root: &Path) -> Tally {
         paths.sort();
         for p in paths {
             let bytes = std::fs::read(&p).expect("corpus file");
-            let mut rng = Rng(0);
+            let mut rng = Rng::for_case(0, 0);
             let mut files = (reader.files)(seeds, &mut rng);
             let ext = Path::new(&files[0].0)
                 .extension()
