@@ -1,7 +1,7 @@
 //! Writes `tests/fixtures/gaunt.json`: exact Wigner 3j symbols and Gaunt coefficients
 //! (complex, product-form, real) for degrees `l1, l2 <= 50`, `l3 <= l1 + l2`, computed in
 //! exact rational arithmetic by `psh::exact::wigner3j` (Racah's formula, DLMF 34.2.4) and
-//! printed with 40 significant digits. Read by `tests/library/gaunt_oracle.rs`.
+//! printed with 40 significant digits. Read by `tests/properties/gaunt_oracle.rs`.
 //!
 //! Run: `cargo run --release --features exact --example fixtures_gaunt`
 

@@ -22,7 +22,7 @@ use crate::geometry::image_grid::{CubeCross, CubeFace, PixelGrid};
 use nalgebra::Rotation3;
 
 /// Bytes of the six faces' coefficients up to which the faces are folded onto one.
-pub const FOLD_BYTES: usize = 64 << 20;
+pub(crate) const FOLD_BYTES: usize = 64 << 20;
 
 /// The faces, each with its block of the cross.
 const FACES: [CubeFace; 6] = [
@@ -66,7 +66,7 @@ impl PixelGrid for Face<'_> {
 /// PSH coefficients of `l <= lmax` of cube-cross Stokes images whose components are in
 /// the cube-map frame field ([`CubeMapFrameField`]); equal to
 /// `project_image(grid, &CubeMapFrameField, channels, codomain, lmax)` to rounding, about
-/// six times less basis evaluation (up to [`FOLD_BYTES`] of face coefficients). A NaN or
+/// six times less basis evaluation (up to 64 MiB of face coefficients). A NaN or
 /// infinite component on a face is an error naming the texel.
 pub fn project_cube_map(
     grid: &CubeCross,

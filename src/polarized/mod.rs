@@ -38,7 +38,7 @@ pub use convolution::{
     convolve_angular, kernel_coefficients, project_to_convolution, rotation_average,
     KernelCoefficients,
 };
-pub use cube::{project_cube_map, FOLD_BYTES};
+pub use cube::project_cube_map;
 pub use evaluator::PshEvaluator;
 pub use image::project_image;
 pub use isotropic::{isotropic_lmax, isotropic_pairs, isotropy_defect, IsotropicMatrix};

@@ -14,8 +14,9 @@
 
 use super::{in_index_set, Codomain, PshMatrix, PshVector};
 use crate::error::{Error, Result};
+use crate::sh::coupling::wigner3j::wigner_3j_row_into;
 use crate::sh::{check_lmax, lm_index, num_coeffs};
-use crate::sh::{wigner_3j_row, wigner_3j_row_into, GauntBasis, GauntTable};
+use crate::sh::{wigner_3j_row, GauntBasis, GauntTable};
 use num_complex::Complex64;
 use std::f64::consts::{FRAC_1_SQRT_2, PI};
 use std::sync::{Arc, Mutex};

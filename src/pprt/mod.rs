@@ -37,17 +37,13 @@ pub use builtin::{builtin_scene, builtin_unpolarized_scene};
 pub use light::DirectionalLight;
 pub use mesh::Mesh;
 pub use mirrored::MirroredBelow;
-pub use plan::{tangent_plane_visibility, MaterialPlan, Plan, Reason, StokesEvidence};
+pub use plan::{MaterialPlan, Plan, Reason, StokesEvidence};
 pub use reference::{Fidelity, Reference, ReferenceSettings, Workspace, MAX_PIXEL_GRID};
-pub use reflected::{
-    high_order_kernel, reflected_pbrdf, reflected_radiance, reflected_radiance_into,
-};
+pub use reflected::{reflected_pbrdf, reflected_radiance};
 pub use render::{
     direct_light, primary_hits, render_frame, vertex_stokes, StokesImage, UnphysicalPixels,
 };
-pub use scene::{
-    Camera, EnvironmentSource, Hit, Scene, SceneMaterial, SceneObject, SHADOW_RAY_OFFSET,
-};
+pub use scene::{Camera, EnvironmentSource, Hit, Scene, SceneMaterial, SceneObject};
 pub use scene_spec::{
     CameraSpec, EnvironmentSpec, MaterialSpec, MeshSpec, SceneFiles, SceneSpec, SettingsSpec, Up,
     SOURCE_LMAX,

@@ -325,7 +325,7 @@ pub struct Scene {
 /// ([`Scene::shadow_origin`]): far above the rounding of the ray-triangle test in `f64`,
 /// far below a mesh's features. At `1e-4` light leaked through the crevices of buddha (its
 /// mean 1% brighter than Mitsuba 3's, `docs/mitsuba.md`).
-pub const SHADOW_RAY_OFFSET: f64 = 1e-7;
+pub(crate) const SHADOW_RAY_OFFSET: f64 = 1e-7;
 
 impl Scene {
     /// Errors: an object naming a material that does not exist, an environment without 3
@@ -481,7 +481,7 @@ impl Scene {
     }
 
     /// The origin of a shadow ray leaving the surface point `p` of unit normal `n`: `p`
-    /// lifted along `n` by [`SHADOW_RAY_OFFSET`] times [`Self::bounding_scale`].
+    /// lifted along `n` by `1e-7` (the shadow-ray offset) times [`Self::bounding_scale`].
     pub fn shadow_origin(&self, p: [f64; 3], n: [f64; 3]) -> [f64; 3] {
         let lift = SHADOW_RAY_OFFSET * self.scale;
         std::array::from_fn(|k| p[k] + lift * n[k])

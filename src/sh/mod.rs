@@ -20,6 +20,7 @@
 pub(crate) mod coupling;
 pub(crate) mod evaluation;
 pub(crate) mod index;
+pub mod kernels;
 pub(crate) mod recursion;
 pub(crate) mod rotation;
 pub(crate) mod transform;
@@ -27,9 +28,7 @@ pub(crate) mod window;
 
 pub use coupling::gaunt::{gaunt, gaunt_product, real_gaunt};
 pub use coupling::gaunt_table::{GauntBasis, GauntEntry, GauntTable, MAX_TABLE_DEGREE};
-pub use coupling::wigner3j::{
-    wigner_3j, wigner_3j_row, wigner_3j_row_into, Wigner3jRow, MAX_GAUNT_DEGREE,
-};
+pub use coupling::wigner3j::{wigner_3j, wigner_3j_row, Wigner3jRow, MAX_GAUNT_DEGREE};
 pub use evaluation::harmonics::{real_from_complex, sh_complex, sh_real, ShEvaluator};
 pub use evaluation::solid::{
     hessian_index, sh_derivatives, Derivatives, SolidHarmonics, HESSIAN_ENTRIES, SOLID_MAX_DEGREE,
@@ -40,13 +39,8 @@ pub use evaluation::zonal::{
 pub use index::{
     check_degree_limit, check_lm, check_lmax, lm_index, lm_of_index, num_coeffs, MAX_DEGREE,
 };
-pub use recursion::legendre::{
-    for_each_column_accurate, legendre_all, legendre_polynomials, tri_index, zonal_legendre,
-    Legendre, Polar,
-};
-pub use rotation::small_d::{
-    for_each_small_d, small_d_block, small_d_column, SmallDHalf, SmallDRecursion,
-};
+pub use recursion::legendre::{legendre_all, legendre_polynomials, zonal_legendre};
+pub use rotation::small_d::small_d_block;
 pub use rotation::wigner_d::{
     for_each_block, real_block, rotate_z_complex, rotate_z_real, RealWignerD, WignerD,
 };

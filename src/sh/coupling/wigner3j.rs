@@ -18,7 +18,7 @@
 //! its final rounding to f64: against exact values (Racah's formula in rational arithmetic,
 //! `crate::exact::wigner3j`) the symbols are within one ulp, in practice correctly rounded,
 //! up to degree 8192 (tests `f64_rows_are_within_one_ulp_at_large_degrees` and
-//! `tests/library/gaunt_oracle.rs`). Symbols whose magnitude is below about `1e-300` come out as
+//! `tests/properties/gaunt_oracle.rs`). Symbols whose magnitude is below about `1e-300` come out as
 //! subnormal numbers or zero; a nontrivial zero (one no selection rule predicts, e.g.
 //! `(3 3 2; -2 2 0)`) comes out near `1e-32` times the row's scale rather than exactly zero.
 //! Selection rules (sum of the `m`, triangle inequality, parity of `l1+l2+l3` when all `m`

@@ -59,7 +59,7 @@ pub struct LegendreArgs {
     /// Polar angle in radians, in [0, pi].
     #[arg(long, allow_hyphen_values = true)]
     theta: f64,
-    /// The f64 path of the transforms (psh::sh::Legendre) instead of the
+    /// The f64 path of the transforms (psh::sh::kernels::Legendre) instead of the
     /// double-double path (for_each_column_accurate).
     #[arg(long)]
     fast: bool,
@@ -150,7 +150,7 @@ pub fn grid(a: &GridArgs) -> psh::Result<serde_json::Value> {
 }
 
 pub fn legendre(a: &LegendreArgs) -> psh::Result<serde_json::Value> {
-    use psh::sh::{for_each_column_accurate, Legendre, Polar};
+    use psh::sh::kernels::{for_each_column_accurate, Legendre, Polar};
     psh::sh::check_lmax(a.l)?;
     psh::geometry::check_theta(a.theta)?;
     let mut values = vec![0.0; a.l + 1];
