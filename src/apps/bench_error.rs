@@ -14,7 +14,7 @@ use crate::io::write_text;
 use crate::pprt::plan::Plan;
 use crate::pprt::reference::{Fidelity, Reference, ReferenceSettings};
 use crate::pprt::render::{direct_light, primary_hits, render_frame, StokesImage};
-use crate::pprt::scene::Scene;
+use crate::pprt::scene::{Hit, Scene};
 use crate::pprt::settings::{Planning, TransferSettings, Visibility};
 use crate::pprt::transfer::precompute_planned;
 use crate::progress::Progress;
@@ -190,16 +190,7 @@ pub fn bench_error(
     out: &Path,
     progress: &dyn Progress,
 ) -> Result<BenchErrorReport> {
-    if options.l_max < 2 || options.l_max > scene.environment().lmax() || options.spp.is_empty() {
-        return Err(Error::InvalidArgument {
-            name: "bench-error options",
-            value: format!("l_max {}, spp {:?}", options.l_max, options.spp),
-            reason: format!(
-                "2 <= l_max <= the environment's band limit {}, and at least one sample count",
-                scene.environment().lmax()
-            ),
-        });
-    }
+    options.check(scene)?;
     std::fs::create_dir_all(out).map_err(|e| Error::Io {
         path: out.to_path_buf(),
         source: e,
@@ -245,23 +236,14 @@ pub fn bench_error(
     };
     for l in 2..=options.l_max {
         for setting in ["full", "no_shadow", "low_only"] {
-            let settings = pprt_settings(setting, l, options.rays);
-            let t = Instant::now();
-            let plan = Plan::new(scene, settings, Planning::Full)?;
-            let transfer = precompute_planned(scene, &plan, &crate::progress::Silent)?;
-            let high = plan.high_fields();
-            let precompute_s = t.elapsed().as_secs_f64();
-            let (image, frame_s) =
-                median_frame(|| render_frame(scene, &transfer, &high, &hits, &direct))?;
-            push(Row {
-                method: "pprt",
+            push(pprt_row(
+                scene,
+                (&hits, &direct),
                 setting,
-                l_max: Some(l),
-                spp: None,
-                precompute_s,
-                frame_s,
-                rmse: rmse(&image, &truth)?,
-            })?;
+                l,
+                options.rays,
+                &truth,
+            )?)?;
         }
     }
     for &spp in &options.spp {
@@ -305,9 +287,61 @@ pub fn bench_error(
         rows,
         speedup_at_equal_rmse: speedup,
     };
+    write_report(&report, &partial, out, options.l_max)?;
+    Ok(report)
+}
+
+impl BenchErrorOptions {
+    /// Errors: `l_max` below 2 or above the environment's band limit, no sample count.
+    fn check(&self, scene: &Scene) -> Result<()> {
+        if self.l_max < 2 || self.l_max > scene.environment().lmax() || self.spp.is_empty() {
+            return Err(Error::InvalidArgument {
+                name: "bench-error options",
+                value: format!("l_max {}, spp {:?}", self.l_max, self.spp),
+                reason: format!(
+                    "2 <= l_max <= the environment's band limit {}, and at least one sample count",
+                    scene.environment().lmax()
+                ),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// One PPRT row: the precomputation at band limit `l` with `setting`'s settings, timed,
+/// and the median frame's RMSE against `truth`; `(hits, direct)` of the camera.
+fn pprt_row(
+    scene: &Scene,
+    (hits, direct): (&[Option<Hit>], &[[[f64; 4]; 3]]),
+    setting: &'static str,
+    l: usize,
+    rays: usize,
+    truth: &StokesImage,
+) -> Result<Row> {
+    let settings = pprt_settings(setting, l, rays);
+    let t = Instant::now();
+    let plan = Plan::new(scene, settings, Planning::Full)?;
+    let transfer = precompute_planned(scene, &plan, &crate::progress::Silent)?;
+    let high = plan.high_fields();
+    let precompute_s = t.elapsed().as_secs_f64();
+    let (image, frame_s) = median_frame(|| render_frame(scene, &transfer, &high, hits, direct))?;
+    Ok(Row {
+        method: "pprt",
+        setting,
+        l_max: Some(l),
+        spp: None,
+        precompute_s,
+        frame_s,
+        rmse: rmse(&image, truth)?,
+    })
+}
+
+/// `bench-error.json`, the CSV of the rows (`partial` renamed: written row by row) and
+/// the plots `bench-error.png` and `fig19.png` into `out`.
+fn write_report(report: &BenchErrorReport, partial: &Path, out: &Path, l_max: usize) -> Result<()> {
     write_text(
         out.join("bench-error.json"),
-        &serde_json::to_value(&report)
+        &serde_json::to_value(report)
             .and_then(|v| serde_json::to_string_pretty(&v))
             .map_err(|e| Error::InvalidArgument {
                 name: "report",
@@ -315,13 +349,12 @@ pub fn bench_error(
                 reason: e.to_string(),
             })?,
     )?;
-    std::fs::rename(&partial, out.join("bench-error.csv")).map_err(|e| Error::Io {
-        path: partial.clone(),
+    std::fs::rename(partial, out.join("bench-error.csv")).map_err(|e| Error::Io {
+        path: partial.to_path_buf(),
         source: e,
     })?;
     plot_error_time(&report.rows, &out.join("bench-error.png"))?;
-    plot_fig19(&report.rows, options.l_max, &out.join("fig19.png"))?;
-    Ok(report)
+    plot_fig19(&report.rows, l_max, &out.join("fig19.png"))
 }
 
 /// Frames PPRT renders per row; its frame time is their median (the first frame also

@@ -13,7 +13,7 @@ use crate::map::MapLayout;
 use crate::polarized::{visibility_transfer, visibility_transfer_quadrature, PshVector};
 use crate::sh::{lm_of_index, num_coeffs, ShEvaluator, ShTransform};
 use std::f64::consts::PI;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The transfer's band limit and the visibility's (PSH uses `2 l_low`).
 const LMAX: usize = 4;
@@ -31,77 +31,9 @@ fn visible(w: [f64; 3]) -> bool {
 }
 
 pub fn run(out: &Path, _options: &FigureOptions) -> Result<Outcome> {
-    // (b) v_lm by quadrature on a fine exact grid (exact for the polynomial part; the
-    // indicator's edge limits it), kept to l <= LV.
-    let t = ShTransform::new(GRID)?;
-    let grid = t.grid();
-    let values = (0..grid.len())
-        .map(|i| Ok(f64::from(u8::from(visible(grid.direction(i)?)))))
-        .collect::<Result<Vec<_>>>()?;
-    let mut all = vec![0.0; num_coeffs(t.lmax())];
-    t.analysis_real(&values, &mut all)?;
-    let v = PshVector::scalar(LV, all[..num_coeffs(LV)].to_vec())?;
-
-    // (a) V and its band-limited reconstruction, side by side.
-    let MapLayout::Equirect(eq) = MapLayout::from_image_size(128, 256)? else {
-        unreachable!("a 1:2 image is equirectangular")
-    };
-    let eval = ShEvaluator::new(LV)?;
-    let n = num_coeffs(LV);
-    let dirs: Vec<[f64; 3]> = (0..eq.len()).map(|i| eq.direction(i)).collect();
-    let mut basis = vec![0.0; dirs.len() * n];
-    eval.real_batch(&dirs, &mut basis)?;
-    let exact: Vec<[u8; 3]> = dirs
-        .iter()
-        .map(|&w| [srgb8(f64::from(u8::from(visible(w)))); 3])
-        .collect();
-    let limited: Vec<[u8; 3]> = basis
-        .chunks_exact(n)
-        .map(|y| {
-            let x: f64 = y.iter().zip(v.data()).map(|(a, b)| a * b).sum();
-            diverging(2.0 * x - 1.0)
-        })
-        .collect();
-    let (rgb, total) = super::panels::side_by_side(&[exact, limited], eq.width, eq.height);
-    let legend = Legend::bar(
-        format!("(a) visibility V (left, black 0, white 1) and its SH cut to l <= {LV} (right)"),
-        &diverging_bar,
-        vec![(0.0, "0".into()), (0.5, "0.5".into()), (1.0, "1".into())],
-    )
-    .panels(&["V", &format!("sum v_lm Y_lm, l <= {LV}")]);
-    let visibility = out.join("fig13a_visibility.png");
-    write_png_with_legend(&visibility, &legend, total, eq.height, &rgb)?;
-
-    // (b) the coefficients as bars, one per (l, m), in flat order.
-    let cell = 8;
-    let (w, h) = (n * cell, 160);
-    let vmax = v.data().iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let mut bars = vec![[255u8; 3]; w * h];
-    for (k, &x) in v.data().iter().enumerate() {
-        let (l, _) = lm_of_index(k);
-        let colour = if l % 2 == 0 {
-            [60, 90, 170]
-        } else {
-            [200, 80, 40]
-        };
-        let top = h / 2 - ((x / vmax) * (h / 2 - 4) as f64).max(0.0) as usize;
-        let bottom = h / 2 + ((-x / vmax) * (h / 2 - 4) as f64).max(0.0) as usize;
-        for y in top..=bottom.min(h - 1) {
-            for c in k * cell + 1..(k + 1) * cell - 1 {
-                bars[y * w + c] = colour;
-            }
-        }
-    }
-    let none = |_: f64| [0u8; 3];
-    let mut legend = Legend::bar(
-        format!("(b) v_lm, l <= {LV}, flat order l*l + l + m (blue even l, orange odd l); the tallest bar is {}", tick_label(vmax)),
-        &none,
-        vec![(0.0, tick_label(-vmax)), (1.0, tick_label(vmax))],
-    );
-    legend.bar = None;
-    let coefficients = out.join("fig13b_coefficients.png");
-    write_png_with_legend(&coefficients, &legend, w, h, &bars)?;
-
+    let v = visibility_coefficients()?;
+    let visibility = visibility_panel(out, &v)?;
+    let coefficients = coefficient_panel(out, &v)?;
     // (c) the matrix by triple products, and by direct quadrature of PSH (54).
     let m = visibility_transfer(&v, LMAX)?;
     let q = visibility_transfer_quadrature(&v, LMAX)?;
@@ -160,4 +92,84 @@ pub fn run(out: &Path, _options: &FigureOptions) -> Result<Outcome> {
             holds: relative <= 1e-2 && against_quadrature <= 1e-12,
         }),
     })
+}
+
+/// (b)'s coefficients `v_lm`, `l <= LV`, by quadrature on a fine exact grid (exact for
+/// the polynomial part; the indicator's edge limits it).
+fn visibility_coefficients() -> Result<PshVector> {
+    let t = ShTransform::new(GRID)?;
+    let grid = t.grid();
+    let values = (0..grid.len())
+        .map(|i| Ok(f64::from(u8::from(visible(grid.direction(i)?)))))
+        .collect::<Result<Vec<_>>>()?;
+    let mut all = vec![0.0; num_coeffs(t.lmax())];
+    t.analysis_real(&values, &mut all)?;
+    PshVector::scalar(LV, all[..num_coeffs(LV)].to_vec())
+}
+
+/// (a) V and its band-limited reconstruction from `v`, side by side.
+fn visibility_panel(out: &Path, v: &PshVector) -> Result<PathBuf> {
+    let MapLayout::Equirect(eq) = MapLayout::from_image_size(128, 256)? else {
+        unreachable!("a 1:2 image is equirectangular")
+    };
+    let eval = ShEvaluator::new(LV)?;
+    let n = num_coeffs(LV);
+    let dirs: Vec<[f64; 3]> = (0..eq.len()).map(|i| eq.direction(i)).collect();
+    let mut basis = vec![0.0; dirs.len() * n];
+    eval.real_batch(&dirs, &mut basis)?;
+    let exact: Vec<[u8; 3]> = dirs
+        .iter()
+        .map(|&w| [srgb8(f64::from(u8::from(visible(w)))); 3])
+        .collect();
+    let limited: Vec<[u8; 3]> = basis
+        .chunks_exact(n)
+        .map(|y| {
+            let x: f64 = y.iter().zip(v.data()).map(|(a, b)| a * b).sum();
+            diverging(2.0 * x - 1.0)
+        })
+        .collect();
+    let (rgb, total) = super::panels::side_by_side(&[exact, limited], eq.width, eq.height);
+    let legend = Legend::bar(
+        format!("(a) visibility V (left, black 0, white 1) and its SH cut to l <= {LV} (right)"),
+        &diverging_bar,
+        vec![(0.0, "0".into()), (0.5, "0.5".into()), (1.0, "1".into())],
+    )
+    .panels(&["V", &format!("sum v_lm Y_lm, l <= {LV}")]);
+    let visibility = out.join("fig13a_visibility.png");
+    write_png_with_legend(&visibility, &legend, total, eq.height, &rgb)?;
+    Ok(visibility)
+}
+
+/// (b) the coefficients `v` as bars, one per `(l, m)`, in flat order.
+fn coefficient_panel(out: &Path, v: &PshVector) -> Result<PathBuf> {
+    let n = num_coeffs(LV);
+    let cell = 8;
+    let (w, h) = (n * cell, 160);
+    let vmax = v.data().iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let mut bars = vec![[255u8; 3]; w * h];
+    for (k, &x) in v.data().iter().enumerate() {
+        let (l, _) = lm_of_index(k);
+        let colour = if l % 2 == 0 {
+            [60, 90, 170]
+        } else {
+            [200, 80, 40]
+        };
+        let top = h / 2 - ((x / vmax) * (h / 2 - 4) as f64).max(0.0) as usize;
+        let bottom = h / 2 + ((-x / vmax) * (h / 2 - 4) as f64).max(0.0) as usize;
+        for y in top..=bottom.min(h - 1) {
+            for c in k * cell + 1..(k + 1) * cell - 1 {
+                bars[y * w + c] = colour;
+            }
+        }
+    }
+    let none = |_: f64| [0u8; 3];
+    let mut legend = Legend::bar(
+        format!("(b) v_lm, l <= {LV}, flat order l*l + l + m (blue even l, orange odd l); the tallest bar is {}", tick_label(vmax)),
+        &none,
+        vec![(0.0, tick_label(-vmax)), (1.0, tick_label(vmax))],
+    );
+    legend.bar = None;
+    let coefficients = out.join("fig13b_coefficients.png");
+    write_png_with_legend(&coefficients, &legend, w, h, &bars)?;
+    Ok(coefficients)
 }

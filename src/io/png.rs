@@ -211,12 +211,11 @@ fn write_texel_pngs(
     let n = texels.len();
     crate::error::check_len("pixel mask", n, on.len())?;
     check_stokes_output(n, texels.channels())?;
-    let lum: Vec<[f64; 4]> = (0..n).map(|i| luminance(&texels, i)).collect();
-    let on_values = |p: usize| -> Vec<f64> {
-        (0..lum.len())
-            .filter(|&i| on[i])
-            .map(|i| lum[i][p])
-            .collect()
+    let pictures = TexelPictures {
+        lum: (0..n).map(|i| luminance(&texels, i)).collect(),
+        texels,
+        on,
+        notes,
     };
     let mut out = Vec::new();
     let mut save = |name: &str, legend: Legend, pixel: &dyn Fn(usize) -> [u8; 3]| -> Result<()> {
@@ -230,114 +229,168 @@ fn write_texel_pngs(
         out.push(path);
         Ok(())
     };
-    let count = |flagged: &dyn Fn(usize) -> bool| (0..n).filter(|&i| on[i] && flagged(i)).count();
-    let grey = |t: f64| [srgb8(t); 3];
+    pictures.intensity(&mut save)?;
+    pictures.components(&mut save)?;
+    pictures.polarization(&mut save)?;
+    Ok(out)
+}
 
-    let white = quantile_abs(&on_values(0), 0.99);
-    let negative = |i: usize| (0..texels.channels()).any(|c| texels.get(c, i)[0] < 0.0);
-    let mut legend = Legend::bar(
-        notes.titled("s0 (white: the luminance's 99th percentile)"),
-        &grey,
-        vec![
-            (0.0, "0".into()),
-            (0.5, tick_label(0.5 * white)),
-            (1.0, tick_label(white)),
-        ],
-    )
-    .panels(notes.panels);
-    let negatives = count(&negative);
-    if negatives > 0 {
-        legend = legend.flag(
-            UNPHYSICAL,
-            format!("s0 < 0 in a channel (breaks PSH (70)): {negatives} pixels"),
-        );
+/// Writes one picture: its name, legend and colour per pixel.
+type Save<'s> = dyn FnMut(&str, Legend, &dyn Fn(usize) -> [u8; 3]) -> Result<()> + 's;
+
+/// The texels of [`write_texel_pngs`] with their luminance, the mask of pixels shown and
+/// the notes of the legends.
+struct TexelPictures<'a> {
+    texels: StokesTexels<'a>,
+    lum: Vec<[f64; 4]>,
+    on: &'a [bool],
+    notes: PictureNotes<'a>,
+}
+
+impl TexelPictures<'_> {
+    /// Component `p` of the luminance at the pixels shown.
+    fn on_values(&self, p: usize) -> Vec<f64> {
+        (0..self.lum.len())
+            .filter(|&i| self.on[i])
+            .map(|i| self.lum[i][p])
+            .collect()
     }
-    save("s0", legend, &|i| match texels.channels() {
-        _ if negative(i) => UNPHYSICAL,
-        3 => [0, 1, 2].map(|c| srgb8(texels.get(c, i)[0] / white)),
-        _ => [srgb8(lum[i][0] / white); 3],
-    })?;
-    let scale = (1..4)
-        .map(|p| quantile_abs(&on_values(p), 0.99))
-        .fold(0.0f64, f64::max);
-    let signed = |t: f64| diverging(2.0 * t - 1.0);
-    for p in 1..4 {
-        let legend = Legend::bar(
-            notes.titled(&format!("s{p} of the luminance, {}", notes.frames)),
-            &signed,
-            vec![
-                (0.0, tick_label(-scale)),
-                (0.25, tick_label(-0.5 * scale)),
-                (0.5, "0".into()),
-                (0.75, tick_label(0.5 * scale)),
-                (1.0, tick_label(scale)),
-            ],
-        )
-        .panels(notes.panels);
-        save(&format!("s{p}"), legend, &|i| diverging(lum[i][p] / scale))?;
+
+    /// The pixels shown that are `flagged`.
+    fn count(&self, flagged: &dyn Fn(usize) -> bool) -> usize {
+        (0..self.lum.len())
+            .filter(|&i| self.on[i] && flagged(i))
+            .count()
     }
-    let dop = |i: usize| {
-        let s = lum[i];
+
+    /// Whether a channel of pixel `i` breaks PSH (70) (per channel, as `s0` and the
+    /// render's report count: the luminance of valid channels is valid, PSH (70) being a
+    /// convex cone, but its sum may round past it).
+    fn unphysical(&self, i: usize) -> bool {
+        (0..self.texels.channels()).any(|c| {
+            let s = self.texels.get(c, i);
+            s[0] < 0.0 || s[1].hypot(s[2]).hypot(s[3]) > s[0]
+        })
+    }
+
+    /// The degree of polarization of the luminance at pixel `i` (0 where `s0 <= 0`).
+    fn dop(&self, i: usize) -> f64 {
+        let s = self.lum[i];
         if s[0] > 0.0 {
             ((s[1] * s[1] + s[2] * s[2] + s[3] * s[3]).sqrt() / s[0]).min(1.0)
         } else {
             0.0
         }
-    };
-    // Per channel, as `s0` and the render's report count (the luminance of valid
-    // channels is valid, PSH (70) being a convex cone, but its sum may round past it).
-    let unphysical = |i: usize| {
-        (0..texels.channels()).any(|c| {
-            let s = texels.get(c, i);
-            s[0] < 0.0 || s[1].hypot(s[2]).hypot(s[3]) > s[0]
+    }
+
+    /// `s0`: RGB (or grey), white at the luminance's 99th percentile; `s0 < 0` flagged.
+    fn intensity(&self, save: &mut Save) -> Result<()> {
+        let (texels, notes) = (&self.texels, &self.notes);
+        let grey = |t: f64| [srgb8(t); 3];
+        let white = quantile_abs(&self.on_values(0), 0.99);
+        let negative = |i: usize| (0..texels.channels()).any(|c| texels.get(c, i)[0] < 0.0);
+        let mut legend = Legend::bar(
+            notes.titled("s0 (white: the luminance's 99th percentile)"),
+            &grey,
+            vec![
+                (0.0, "0".into()),
+                (0.5, tick_label(0.5 * white)),
+                (1.0, tick_label(white)),
+            ],
+        )
+        .panels(notes.panels);
+        let negatives = self.count(&negative);
+        if negatives > 0 {
+            legend = legend.flag(
+                UNPHYSICAL,
+                format!("s0 < 0 in a channel (breaks PSH (70)): {negatives} pixels"),
+            );
+        }
+        save("s0", legend, &|i| match texels.channels() {
+            _ if negative(i) => UNPHYSICAL,
+            3 => [0, 1, 2].map(|c| srgb8(texels.get(c, i)[0] / white)),
+            _ => [srgb8(self.lum[i][0] / white); 3],
         })
-    };
-    let broken = count(&unphysical);
-    let ticks = |labels: &[&str]| -> Vec<(f64, String)> {
-        let k = (labels.len() - 1) as f64;
-        labels
-            .iter()
-            .enumerate()
-            .map(|(i, l)| (i as f64 / k, l.to_string()))
-            .collect()
-    };
-    let mut legend = Legend::bar(
-        notes.titled("DoP of the luminance"),
-        &grey,
-        ticks(&["0", "0.25", "0.5", "0.75", "1"]),
-    )
-    .panels(notes.panels);
-    if broken > 0 {
-        legend = legend.flag(
-            UNPHYSICAL,
-            format!("s0 < 0 or DoP > 1 in a channel (breaks PSH (70)): {broken} pixels"),
-        );
     }
-    save("dop", legend, &|i| {
-        if unphysical(i) {
-            UNPHYSICAL
-        } else {
-            [srgb8(dop(i)); 3]
+
+    /// `s1..s3` of the luminance on one diverging scale (the largest 99th percentile).
+    fn components(&self, save: &mut Save) -> Result<()> {
+        let scale = (1..4)
+            .map(|p| quantile_abs(&self.on_values(p), 0.99))
+            .fold(0.0f64, f64::max);
+        let signed = |t: f64| diverging(2.0 * t - 1.0);
+        for p in 1..4 {
+            let legend = Legend::bar(
+                self.notes
+                    .titled(&format!("s{p} of the luminance, {}", self.notes.frames)),
+                &signed,
+                vec![
+                    (0.0, tick_label(-scale)),
+                    (0.25, tick_label(-0.5 * scale)),
+                    (0.5, "0".into()),
+                    (0.75, tick_label(0.5 * scale)),
+                    (1.0, tick_label(scale)),
+                ],
+            )
+            .panels(self.notes.panels);
+            save(&format!("s{p}"), legend, &|i| {
+                diverging(self.lum[i][p] / scale)
+            })?;
         }
-    })?;
-    let full = |t: f64| hue(t.min(1.0 - 1e-9), 1.0);
-    let mut legend = Legend::bar(
-        notes.titled("AoLP, degrees from the frames' x (brightness: DoP)"),
-        &full,
-        ticks(&["-90", "-45", "0", "45", "90"]),
-    )
-    .panels(notes.panels);
-    if broken > 0 {
-        legend = legend.flag([255; 3], format!("breaks PSH (70): {broken} pixels"));
+        Ok(())
     }
-    save("aop", legend, &|i| {
-        if unphysical(i) {
-            return [255; 3];
+
+    /// The degree (grey) and angle (hue, brightness the degree) of polarization of the
+    /// luminance; pixels breaking PSH (70) flagged.
+    fn polarization(&self, save: &mut Save) -> Result<()> {
+        let notes = &self.notes;
+        let grey = |t: f64| [srgb8(t); 3];
+        let broken = self.count(&|i| self.unphysical(i));
+        let ticks = |labels: &[&str]| -> Vec<(f64, String)> {
+            let k = (labels.len() - 1) as f64;
+            labels
+                .iter()
+                .enumerate()
+                .map(|(i, l)| (i as f64 / k, l.to_string()))
+                .collect()
+        };
+        let mut legend = Legend::bar(
+            notes.titled("DoP of the luminance"),
+            &grey,
+            ticks(&["0", "0.25", "0.5", "0.75", "1"]),
+        )
+        .panels(notes.panels);
+        if broken > 0 {
+            legend = legend.flag(
+                UNPHYSICAL,
+                format!("s0 < 0 or DoP > 1 in a channel (breaks PSH (70)): {broken} pixels"),
+            );
         }
-        let chi = 0.5 * lum[i][2].atan2(lum[i][1]);
-        hue(chi / std::f64::consts::PI + 0.5, dop(i))
-    })?;
-    Ok(out)
+        save("dop", legend, &|i| {
+            if self.unphysical(i) {
+                UNPHYSICAL
+            } else {
+                [srgb8(self.dop(i)); 3]
+            }
+        })?;
+        let full = |t: f64| hue(t.min(1.0 - 1e-9), 1.0);
+        let mut legend = Legend::bar(
+            notes.titled("AoLP, degrees from the frames' x (brightness: DoP)"),
+            &full,
+            ticks(&["-90", "-45", "0", "45", "90"]),
+        )
+        .panels(notes.panels);
+        if broken > 0 {
+            legend = legend.flag([255; 3], format!("breaks PSH (70): {broken} pixels"));
+        }
+        save("aop", legend, &|i| {
+            if self.unphysical(i) {
+                return [255; 3];
+            }
+            let chi = 0.5 * self.lum[i][2].atan2(self.lum[i][1]);
+            hue(chi / std::f64::consts::PI + 0.5, self.dop(i))
+        })
+    }
 }
 
 /// Writes a heat map of `|a_ij|` for an `n x n` row-major matrix, `cell` pixels per

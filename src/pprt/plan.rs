@@ -332,27 +332,7 @@ impl Plan {
         let materials = matrices_high
             .par_iter()
             .zip(&matrices)
-            .map(|(high, low)| {
-                let defect = low.iter().map(isotropy_defect).fold(0.0, f64::max);
-                let sparsity = match tolerance {
-                    Some(tol) if defect <= tol => Sparsity::Isotropic,
-                    _ => Sparsity::General,
-                };
-                let operators = low
-                    .iter()
-                    .map(|m| SparsePshMatrix::new(m, codomain, codomain, sparsity))
-                    .collect();
-                let (l_high, high, dropped_tail) =
-                    high_orders(high, &env_high, l, tolerance, codomain)?;
-                Ok(MaterialPlan {
-                    operators,
-                    sparsity,
-                    isotropy_defect: defect,
-                    l_high,
-                    high,
-                    dropped_tail,
-                })
-            })
+            .map(|(high, low)| material_plan(high, low, &env_high, l, tolerance, codomain))
             .collect::<Result<Vec<_>>>()?;
         let dense = 3 * (num_coeffs(l) * codomain.components().len()).pow(2);
         for (k, m) in materials.iter().enumerate() {
@@ -455,6 +435,38 @@ fn stokes_components(
             tolerance: tol,
         },
     ))
+}
+
+/// The plan of one material: its matrices `low` (`l <= l_low`) stored isotropic sparse
+/// when their isotropy defect is within the tolerance, general sparse otherwise; the high
+/// orders from its matrices `high` to `l_high` and the environment `env_high`
+/// ([`high_orders`]).
+fn material_plan(
+    high: &[PshMatrix],
+    low: &[PshMatrix],
+    env_high: &PshVector,
+    l: usize,
+    tolerance: Option<f64>,
+    codomain: Codomain,
+) -> Result<MaterialPlan> {
+    let defect = low.iter().map(isotropy_defect).fold(0.0, f64::max);
+    let sparsity = match tolerance {
+        Some(tol) if defect <= tol => Sparsity::Isotropic,
+        _ => Sparsity::General,
+    };
+    let operators = low
+        .iter()
+        .map(|m| SparsePshMatrix::new(m, codomain, codomain, sparsity))
+        .collect();
+    let (l_high, high, dropped_tail) = high_orders(high, env_high, l, tolerance, codomain)?;
+    Ok(MaterialPlan {
+        operators,
+        sparsity,
+        isotropy_defect: defect,
+        l_high,
+        high,
+        dropped_tail,
+    })
 }
 
 /// `(l_high, high orders and residual, dropped tail)` of one material.
