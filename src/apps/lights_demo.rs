@@ -22,7 +22,7 @@ pub const DEMO_THRESHOLD: f64 = 0.3;
 
 /// One row of the table.
 #[derive(Clone, Debug)]
-pub struct DemoRow {
+pub struct LightsDemoRow {
     /// The grid: `uniform <2^N>^3` or `adaptive (E_abs <= <threshold>)`.
     pub grid: String,
     /// Finest level `N` (`2^N` cells per axis).
@@ -41,7 +41,7 @@ pub struct DemoRow {
 
 /// The demo's results.
 #[derive(Clone, Debug)]
-pub struct DemoReport {
+pub struct LightsDemoReport {
     /// Spherical lights in the scene (near and far).
     pub lights: usize,
     /// Shading points on the floor.
@@ -49,14 +49,14 @@ pub struct DemoReport {
     /// Time of the per-point exact coefficients (ms).
     pub reference_ms: f64,
     /// The uniform grids by level, then the adaptive grid.
-    pub rows: Vec<DemoRow>,
+    pub rows: Vec<LightsDemoRow>,
     /// Index of the uniform row closest in construction time to the adaptive grid.
     pub equal_time: usize,
     /// Every file written: the error images, then `table.md`.
     pub files: Vec<PathBuf>,
 }
 
-impl DemoReport {
+impl LightsDemoReport {
     /// The table as Markdown.
     pub fn markdown_table(&self) -> String {
         let mut s = format!(
@@ -88,10 +88,10 @@ fn row(
     scene: &LightScene,
     exact: &[Vec<f64>],
     peak: f64,
-) -> Result<(DemoRow, Vec<f64>)> {
+) -> Result<(LightsDemoRow, Vec<f64>)> {
     let (mse, mean_error, per_point) = grid_errors(grid, &scene.points, exact)?;
     Ok((
-        DemoRow {
+        LightsDemoRow {
             grid: name,
             level,
             points: grid.num_points(),
@@ -136,7 +136,7 @@ pub(crate) fn error_image(
 
 /// Runs the demo and writes `table.md`, `error_adaptive.png` and
 /// `error_uniform_N<level>.png` into `out` (created if missing).
-pub fn write_lights_demo(out: &Path) -> Result<DemoReport> {
+pub fn write_lights_demo(out: &Path) -> Result<LightsDemoReport> {
     std::fs::create_dir_all(out).map_err(|e| io_error(out, e))?;
     let scene = light_scene(96, 24, 40, 3)?;
     let lights = SphericalLights::new(scene.lights.clone(), DEMO_LMAX)?;
@@ -144,13 +144,14 @@ pub fn write_lights_demo(out: &Path) -> Result<DemoReport> {
     let exact = exact_coefficients(&lights, &scene.points)?;
     let reference_ms = t0.elapsed().as_secs_f64() * 1e3;
     let peak = exact.iter().flatten().fold(0.0f64, |a, b| a.max(b.abs()));
-    let build = |name: String, level: u32, refinement: Refinement| -> Result<(DemoRow, Vec<f64>)> {
-        let lattice = Lattice::new(scene.bounds.0, scene.bounds.1, level)?;
-        let t0 = Instant::now();
-        let grid = LightGrid::build(&lights, lattice, &scene.points, refinement)?;
-        let ms = t0.elapsed().as_secs_f64() * 1e3;
-        row(name, level, &grid, ms, &scene, &exact, peak)
-    };
+    let build =
+        |name: String, level: u32, refinement: Refinement| -> Result<(LightsDemoRow, Vec<f64>)> {
+            let lattice = Lattice::new(scene.bounds.0, scene.bounds.1, level)?;
+            let t0 = Instant::now();
+            let grid = LightGrid::build(&lights, lattice, &scene.points, refinement)?;
+            let ms = t0.elapsed().as_secs_f64() * 1e3;
+            row(name, level, &grid, ms, &scene, &exact, peak)
+        };
     let mut rows = Vec::new();
     let mut images = Vec::new();
     for level in 3..=DEMO_MAX_LEVEL - 1 {
@@ -189,7 +190,7 @@ pub fn write_lights_demo(out: &Path) -> Result<DemoReport> {
         error_image(&path, scene.floor_side, e, &exact)?;
         files.push(path);
     }
-    let mut report = DemoReport {
+    let mut report = LightsDemoReport {
         lights: scene.lights.len(),
         shading_points: scene.points.len(),
         reference_ms,

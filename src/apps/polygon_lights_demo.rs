@@ -23,7 +23,7 @@ pub const DEMO_LMAX: usize = 8;
 
 /// One row of the table.
 #[derive(Clone, Debug)]
-pub struct DemoRow {
+pub struct PolygonLightsDemoRow {
     /// The interpolant of the grid's coefficients and gradients.
     pub interpolation: Interpolation,
     /// Finest level `N` (`2^N` cells per axis).
@@ -42,7 +42,7 @@ pub struct DemoRow {
 
 /// The demo's results.
 #[derive(Clone, Debug)]
-pub struct DemoReport {
+pub struct PolygonLightsDemoReport {
     /// Polygonal lights in the scene (near triangles and walls).
     pub lights: usize,
     /// Shading points on the floor.
@@ -50,12 +50,12 @@ pub struct DemoReport {
     /// Time of the per-point exact coefficients (ms).
     pub reference_ms: f64,
     /// By level, then by interpolation (trilinear, Hermite, serendipity).
-    pub rows: Vec<DemoRow>,
+    pub rows: Vec<PolygonLightsDemoRow>,
     /// Every file written: the error images of the finest level, then `table.md`.
     pub files: Vec<PathBuf>,
 }
 
-impl DemoReport {
+impl PolygonLightsDemoReport {
     /// The table as Markdown.
     pub fn markdown_table(&self) -> String {
         let mut s = format!(
@@ -87,7 +87,7 @@ pub fn write_polygon_lights_demo(
     out: &Path,
     finest: u32,
     progress: &dyn Progress,
-) -> Result<DemoReport> {
+) -> Result<PolygonLightsDemoReport> {
     std::fs::create_dir_all(out).map_err(|e| io_error(out, e))?;
     let scene = polygon_scene(64, 48, 7)?;
     let lights =
@@ -121,7 +121,7 @@ pub fn write_polygon_lights_demo(
             let (_, _, per_point) = grid_errors_with(&grid, &scene.points, &exact, scheme)?;
             let interpolate_ms = t0.elapsed().as_secs_f64() * 1e3;
             let rel: Vec<f64> = per_point.iter().zip(&norms).map(|(e, n)| e / n).collect();
-            rows.push(DemoRow {
+            rows.push(PolygonLightsDemoRow {
                 interpolation: scheme,
                 level,
                 points: grid.num_points(),
@@ -139,7 +139,7 @@ pub fn write_polygon_lights_demo(
         progress.advance(1);
     }
     progress.finish();
-    let mut report = DemoReport {
+    let mut report = PolygonLightsDemoReport {
         lights: scene.lights.len(),
         shading_points: scene.points.len(),
         reference_ms,

@@ -5,7 +5,7 @@
 
 use super::panels::pngs;
 use super::{Comparison, FigureOptions, Outcome, Table};
-use crate::apps::lights_demo::{write_lights_demo, DemoRow};
+use crate::apps::lights_demo::{write_lights_demo, LightsDemoRow};
 use crate::error::Result;
 use crate::verify::oracle::sh_hessian_table1;
 use std::path::Path;
@@ -46,8 +46,8 @@ pub fn run(out: &Path, _options: &FigureOptions) -> Result<Outcome> {
 
 /// The MSE of the uniform rows interpolated log-log at `points` grid points (NaN outside
 /// their range).
-fn uniform_mse_at(rows: &[DemoRow], points: usize) -> f64 {
-    let mut uniform: Vec<&DemoRow> = rows
+fn uniform_mse_at(rows: &[LightsDemoRow], points: usize) -> f64 {
+    let mut uniform: Vec<&LightsDemoRow> = rows
         .iter()
         .filter(|r| r.grid.starts_with("uniform"))
         .collect();
