@@ -21,12 +21,7 @@ use psh::sh::{GauntBasis, GauntTable};
 use rayon::prelude::*;
 use std::time::Instant;
 
-const SETTINGS: TransferSettings = TransferSettings {
-    l_low: 6,
-    l_high: None,
-    rays: 64,
-    visibility: psh::pprt::Visibility::Rays,
-};
+const SETTINGS: TransferSettings = TransferSettings::new(6, None, 64, psh::pprt::Visibility::Rays);
 
 /// Scalar PRT of `scene`: per vertex the ray-cast visibility's Gaunt product with the
 /// environment's `s0`, rotated to the shading frame and multiplied by `blocks[material]`

@@ -18,12 +18,7 @@ fn pprt(c: &mut Criterion) {
     }
     let scene_file = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/buddha.toml");
     let (scene, _) = load_scene(scene_file, 9).unwrap();
-    let settings = TransferSettings {
-        l_low: 4,
-        l_high: Some(9),
-        rays: 2000,
-        visibility: psh::pprt::Visibility::Rays,
-    };
+    let settings = TransferSettings::new(4, Some(9), 2000, psh::pprt::Visibility::Rays);
     let mut grp = c.benchmark_group("pprt");
     grp.sample_size(10);
     // 2,000 visibility rays per vertex, triple products, rotation, pBRDF product (the

@@ -20,10 +20,12 @@ static OVERRIDE: AtomicU64 = AtomicU64::new(0);
 /// (powers of 1024, case-insensitive, an optional `B` or `iB` after it).
 pub fn parse_bytes(text: &str) -> Result<u64> {
     let t = text.trim();
-    let bad = || Error::InvalidArgument {
-        name: "memory size",
-        value: crate::error::clip(t),
-        reason: "expected bytes, or a number with K, M, G or T (powers of 1024), e.g. 8G".into(),
+    let bad = || {
+        Error::invalid(
+            "memory size",
+            crate::error::clip(t),
+            "expected bytes, or a number with K, M, G or T (powers of 1024), e.g. 8G",
+        )
     };
     let upper = t.to_ascii_uppercase();
     let body = upper

@@ -197,6 +197,30 @@ pub fn check_len(name: &'static str, expected: usize, got: usize) -> Result<()> 
         })
     }
 }
+impl Error {
+    /// [`Error::InvalidArgument`]: the argument `name`, the `value` given, and what a
+    /// valid value is (`reason`).
+    pub fn invalid(
+        name: &'static str,
+        value: impl Into<String>,
+        reason: impl Into<String>,
+    ) -> Self {
+        Error::InvalidArgument {
+            name,
+            value: value.into(),
+            reason: reason.into(),
+        }
+    }
+
+    /// [`Error::MalformedFile`]: the file `path` and what is wrong with it.
+    pub fn malformed(path: impl Into<PathBuf>, reason: impl Into<String>) -> Self {
+        Error::MalformedFile {
+            path: path.into(),
+            reason: reason.into(),
+        }
+    }
+}
+
 /// Replaces the context of a `DifferentRays` error.
 pub(crate) fn relabel(e: Error, what: &'static str) -> Error {
     match e {

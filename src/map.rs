@@ -32,11 +32,11 @@ impl MapLayout {
         } else if height > 0 && height % 3 == 0 && 3 * width == 4 * height {
             Ok(Self::CubeCross(CubeCross::new(height / 3)?))
         } else {
-            Err(Error::InvalidArgument {
-                name: "map size",
-                value: format!("{height} x {width} (rows x columns)"),
-                reason: "a cube cross is 3e x 4e, an equirectangular map H x 2H".into(),
-            })
+            Err(Error::invalid(
+                "map size",
+                format!("{height} x {width} (rows x columns)"),
+                "a cube cross is 3e x 4e, an equirectangular map H x 2H",
+            ))
         }
     }
 
@@ -176,25 +176,25 @@ impl StokesMap {
     /// layout's, a NaN or infinite component on a texel of the map (named).
     pub fn new(layout: MapLayout, channels: Vec<Vec<[f64; 4]>>) -> Result<Self> {
         if channels.is_empty() {
-            return Err(Error::InvalidArgument {
-                name: "Stokes map channels",
-                value: "0".into(),
-                reason: "a map needs at least one channel".into(),
-            });
+            return Err(Error::invalid(
+                "Stokes map channels",
+                "0",
+                "a map needs at least one channel",
+            ));
         }
         for (c, ch) in channels.iter().enumerate() {
             crate::error::check_len("Stokes map channel", layout.len(), ch.len())?;
             for (i, s) in ch.iter().enumerate() {
                 if layout.solid_angle(i) > 0.0 && s.iter().any(|x| !x.is_finite()) {
-                    return Err(Error::InvalidArgument {
-                        name: "Stokes texel",
-                        value: format!(
+                    return Err(Error::invalid(
+                        "Stokes texel",
+                        format!(
                             "channel {c}, row {}, column {}: {s:?}",
                             i / layout.width(),
                             i % layout.width()
                         ),
-                        reason: "components must be finite".into(),
-                    });
+                        "components must be finite",
+                    ));
                 }
             }
         }
@@ -227,14 +227,13 @@ impl StokesMap {
     /// channel the components of the texel containing the unit direction `w`, in the
     /// layout's frame at `w`. Error: `w` zero or not finite.
     pub fn incident(&self, w: [f64; 3]) -> Result<Vec<StokesVector>> {
-        let texel = self
-            .layout
-            .texel_at(w)
-            .ok_or_else(|| Error::InvalidArgument {
-                name: "map direction",
-                value: format!("{w:?}"),
-                reason: "a finite non-zero direction".into(),
-            })?;
+        let texel = self.layout.texel_at(w).ok_or_else(|| {
+            Error::invalid(
+                "map direction",
+                format!("{w:?}"),
+                "a finite non-zero direction",
+            )
+        })?;
         let frame = self.frame_field().frame(w)?;
         self.channels
             .iter()

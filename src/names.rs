@@ -25,10 +25,12 @@ pub fn from_name<T: Named>(name: &str) -> Result<T> {
         .iter()
         .copied()
         .find(|v| v.name() == name)
-        .ok_or_else(|| Error::InvalidArgument {
-            name: T::WHAT,
-            value: clip(name),
-            reason: format!("one of {}", T::names().join(", ")),
+        .ok_or_else(|| {
+            Error::invalid(
+                T::WHAT,
+                clip(name),
+                format!("one of {}", T::names().join(", ")),
+            )
         })
 }
 

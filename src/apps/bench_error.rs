@@ -48,11 +48,11 @@ pub fn ground_truth_image(
 ) -> Result<StokesImage> {
     let cam = scene.camera();
     if (width, height) != (cam.width, cam.height) || channels.len() != 3 {
-        return Err(Error::InvalidArgument {
-            name: "ground truth image",
-            value: format!("{width} x {height}, {} channels", channels.len()),
-            reason: format!("the scene's camera is {} x {}, RGB", cam.width, cam.height),
-        });
+        return Err(Error::invalid(
+            "ground truth image",
+            format!("{width} x {height}, {} channels", channels.len()),
+            format!("the scene's camera is {} x {}, RGB", cam.width, cam.height),
+        ));
     }
     let pixels: Vec<[[f64; 4]; 3]> = (0..width * height)
         .map(|k| [channels[0][k], channels[1][k], channels[2][k]])
@@ -155,11 +155,11 @@ fn pprt_settings(setting: &str, l: usize, rays: usize) -> TransferSettings {
 /// RMSE per Stokes component of `a` against `truth` over the surface pixels.
 pub fn rmse(a: &StokesImage, truth: &StokesImage) -> Result<[f64; 4]> {
     if (a.width, a.height) != (truth.width, truth.height) {
-        return Err(Error::InvalidArgument {
-            name: "image size",
-            value: format!("{} x {}", a.width, a.height),
-            reason: format!("the ground truth is {} x {}", truth.width, truth.height),
-        });
+        return Err(Error::invalid(
+            "image size",
+            format!("{} x {}", a.width, a.height),
+            format!("the ground truth is {} x {}", truth.width, truth.height),
+        ));
     }
     let mut sq = [0.0; 4];
     let mut count = 0usize;
@@ -295,14 +295,14 @@ impl BenchErrorOptions {
     /// Errors: `l_max` below 2 or above the environment's band limit, no sample count.
     fn check(&self, scene: &Scene) -> Result<()> {
         if self.l_max < 2 || self.l_max > scene.environment().lmax() || self.spp.is_empty() {
-            return Err(Error::InvalidArgument {
-                name: "bench-error options",
-                value: format!("l_max {}, spp {:?}", self.l_max, self.spp),
-                reason: format!(
+            return Err(Error::invalid(
+                "bench-error options",
+                format!("l_max {}, spp {:?}", self.l_max, self.spp),
+                format!(
                     "2 <= l_max <= the environment's band limit {}, and at least one sample count",
                     scene.environment().lmax()
                 ),
-            });
+            ));
         }
         Ok(())
     }
@@ -343,11 +343,7 @@ fn write_report(report: &BenchErrorReport, partial: &Path, out: &Path, l_max: us
         out.join("bench-error.json"),
         &serde_json::to_value(report)
             .and_then(|v| serde_json::to_string_pretty(&v))
-            .map_err(|e| Error::InvalidArgument {
-                name: "report",
-                value: "bench-error.json".into(),
-                reason: e.to_string(),
-            })?,
+            .map_err(|e| Error::invalid("report", "bench-error.json", e.to_string()))?,
     )?;
     std::fs::rename(partial, out.join("bench-error.csv")).map_err(|e| Error::Io {
         path: partial.to_path_buf(),

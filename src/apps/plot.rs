@@ -70,11 +70,7 @@ pub struct LinePlot {
 }
 
 fn plot_error(title: &str, e: impl std::fmt::Display) -> Error {
-    Error::InvalidArgument {
-        name: "plot",
-        value: crate::error::clip(title),
-        reason: e.to_string(),
-    }
+    Error::invalid("plot", crate::error::clip(title), e.to_string())
 }
 
 impl LinePlot {
@@ -84,15 +80,15 @@ impl LinePlot {
         for (name, a) in [("x range", &x), ("y range", &y)] {
             let (lo, hi) = a.range;
             if !(a.admits(lo) && a.admits(hi) && lo < hi) {
-                return Err(Error::InvalidArgument {
+                return Err(Error::invalid(
                     name,
-                    value: format!("[{lo}, {hi}]"),
-                    reason: if a.log {
-                        "needs 0 < lo < hi on a logarithmic axis".into()
+                    format!("[{lo}, {hi}]"),
+                    if a.log {
+                        "needs 0 < lo < hi on a logarithmic axis"
                     } else {
-                        "needs finite lo < hi".into()
+                        "needs finite lo < hi"
                     },
-                });
+                ));
             }
         }
         Ok(Self {
@@ -112,11 +108,11 @@ impl LinePlot {
     /// 160 x 120, or a drawing error.
     pub fn rasterize(&self, width: usize, height: usize) -> Result<Vec<[u8; 3]>> {
         if width < 160 || height < 120 || width > 8192 || height > 8192 {
-            return Err(Error::InvalidArgument {
-                name: "plot size",
-                value: format!("{width} x {height}"),
-                reason: "must be 160 x 120 to 8192 x 8192 pixels".into(),
-            });
+            return Err(Error::invalid(
+                "plot size",
+                format!("{width} x {height}"),
+                "must be 160 x 120 to 8192 x 8192 pixels",
+            ));
         }
         register_font()?;
         let mut buf = vec![255u8; width * height * 3];

@@ -263,17 +263,16 @@ pub fn ablation_job(
     progress: &dyn Progress,
 ) -> Result<AblationReport> {
     let Some(l_high) = settings.high_orders().filter(|_| settings.shadows()) else {
-        return Err(Error::InvalidArgument {
-            name: "ablation settings",
-            value: format!(
+        return Err(Error::invalid(
+            "ablation settings",
+            format!(
                 "shadows {}, l_low {}, l_high {}",
                 settings.shadows(),
                 settings.l_low,
                 high_orders_number(settings.l_high)
             ),
-            reason: "the ablation adds shadows and high orders: shadows on and l_high > l_low"
-                .into(),
-        });
+            "the ablation adds shadows and high orders: shadows on and l_high > l_low",
+        ));
     };
     let variants = [
         (
@@ -350,10 +349,6 @@ pub fn ablation_job(
 fn write_json(path: &Path, value: &impl Serialize) -> Result<()> {
     let text = serde_json::to_value(value)
         .and_then(|v| serde_json::to_string_pretty(&v))
-        .map_err(|e| Error::InvalidArgument {
-            name: "JSON report",
-            value: path.display().to_string(),
-            reason: e.to_string(),
-        })?;
+        .map_err(|e| Error::invalid("JSON report", path.display().to_string(), e.to_string()))?;
     crate::io::write_text(path, &text).map(drop)
 }

@@ -41,11 +41,7 @@ impl std::str::FromStr for ImageSize {
             .and_then(|(w, h)| Some((w.trim().parse().ok()?, h.trim().parse().ok()?)))
             .filter(|&(w, h): &(usize, usize)| w > 0 && h > 0)
             .map(|(width, height)| ImageSize { width, height })
-            .ok_or_else(|| Error::InvalidArgument {
-                name: "--size",
-                value: size.to_string(),
-                reason: "expected WxH, e.g. 480x360".into(),
-            })
+            .ok_or_else(|| Error::invalid("--size", size.to_string(), "expected WxH, e.g. 480x360"))
     }
 }
 

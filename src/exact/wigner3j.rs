@@ -38,18 +38,18 @@ impl SignedSqrt {
     /// (a nonzero `square` with `sign == 0` is also rejected).
     pub fn new(sign: i32, square: Rational) -> Result<Self> {
         if square.cmp0() == Ordering::Less {
-            return Err(Error::InvalidArgument {
-                name: "square",
-                value: square.to_string(),
-                reason: "the square of a real number is non-negative".into(),
-            });
+            return Err(Error::invalid(
+                "square",
+                square.to_string(),
+                "the square of a real number is non-negative",
+            ));
         }
         if !(-1..=1).contains(&sign) || (sign == 0 && square.cmp0() != Ordering::Equal) {
-            return Err(Error::InvalidArgument {
-                name: "sign",
-                value: sign.to_string(),
-                reason: "the sign must be -1 or 1 (0 only for a zero value)".into(),
-            });
+            return Err(Error::invalid(
+                "sign",
+                sign.to_string(),
+                "the sign must be -1 or 1 (0 only for a zero value)",
+            ));
         }
         let sign = if square.cmp0() == Ordering::Equal {
             0

@@ -24,10 +24,12 @@ impl SegmentPanel {
     /// (theta grows with the row) and `e_phi` right, so the angle `chi = arg(z) / 2` from
     /// `e_theta` (PSH (15)) is the direction `(sin chi, cos chi)` in `(x, y)`.
     pub fn draw(&self, max_len: f64, scale: f64) -> Result<Vec<[u8; 3]>> {
-        let err = |e: &dyn std::fmt::Display| Error::InvalidArgument {
-            name: "segment field",
-            value: format!("{} x {}", self.width, self.height),
-            reason: e.to_string(),
+        let err = |e: &dyn std::fmt::Display| {
+            Error::invalid(
+                "segment field",
+                format!("{} x {}", self.width, self.height),
+                e.to_string(),
+            )
         };
         let mut buf: Vec<u8> = self.rgb.iter().flatten().copied().collect();
         {

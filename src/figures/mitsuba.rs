@@ -29,11 +29,11 @@ scene.sensors()[0].film().bitmap().write(sys.argv[2])
 pub fn render(python: &Path, scene: &Scene, spp: usize, dir: &Path) -> Result<(StokesImage, f64)> {
     let export = export_mitsuba(scene, &dir.join("export"), spp, 256)?;
     if !export.differences.is_empty() {
-        return Err(Error::InvalidArgument {
-            name: "Mitsuba scene",
-            value: export.differences.join("; "),
-            reason: "the figure compares scenes both renderers express identically".into(),
-        });
+        return Err(Error::invalid(
+            "Mitsuba scene",
+            export.differences.join("; "),
+            "the figure compares scenes both renderers express identically",
+        ));
     }
     let exr = dir.join("mitsuba.exr");
     let t = Instant::now();
@@ -49,11 +49,11 @@ pub fn render(python: &Path, scene: &Scene, spp: usize, dir: &Path) -> Result<(S
         })?;
     let seconds = t.elapsed().as_secs_f64();
     if !run.status.success() {
-        return Err(Error::InvalidArgument {
-            name: "Mitsuba 3 render",
-            value: python.display().to_string(),
-            reason: crate::error::clip(&String::from_utf8_lossy(&run.stderr)),
-        });
+        return Err(Error::invalid(
+            "Mitsuba 3 render",
+            python.display().to_string(),
+            crate::error::clip(&String::from_utf8_lossy(&run.stderr)),
+        ));
     }
     Ok((
         ground_truth_image(scene, read_stokes_image(&exr)?)?,

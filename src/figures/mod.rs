@@ -317,14 +317,14 @@ pub struct FigureReport {
 pub fn select(only: &[String]) -> Result<Vec<&'static Figure>> {
     for name in only {
         if !FIGURES.iter().any(|f| f.matches(name)) {
-            return Err(Error::InvalidArgument {
-                name: "figure",
-                value: name.clone(),
-                reason: format!(
+            return Err(Error::invalid(
+                "figure",
+                name.clone(),
+                format!(
                     "psh figures computes {}",
                     FIGURES.iter().map(|f| f.id).collect::<Vec<_>>().join(", ")
                 ),
-            });
+            ));
         }
     }
     Ok(FIGURES
@@ -393,11 +393,8 @@ pub fn run(
     write_text(out.join("figures.md"), &gallery(&reports, options))?;
     write_text(
         out.join("figures.json"),
-        &serde_json::to_string_pretty(&reports).map_err(|e| Error::InvalidArgument {
-            name: "report",
-            value: "figures.json".into(),
-            reason: e.to_string(),
-        })?,
+        &serde_json::to_string_pretty(&reports)
+            .map_err(|e| Error::invalid("report", "figures.json", e.to_string()))?,
     )?;
     let failed: Vec<String> = reports
         .iter()
@@ -409,11 +406,11 @@ pub fn run(
     if failed.is_empty() {
         Ok(reports)
     } else {
-        Err(Error::InvalidArgument {
-            name: "figure comparisons",
-            value: failed.join("; "),
-            reason: "a figure's comparison does not hold".into(),
-        })
+        Err(Error::invalid(
+            "figure comparisons",
+            failed.join("; "),
+            "a figure's comparison does not hold",
+        ))
     }
 }
 

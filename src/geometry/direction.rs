@@ -22,11 +22,11 @@ pub fn check_direction(w: [f64; 3]) -> Result<[f64; 3]> {
 pub fn check_theta(theta: f64) -> Result<f64> {
     crate::error::finite("theta", theta)?;
     if !(0.0..=std::f64::consts::PI).contains(&theta) {
-        return Err(Error::InvalidArgument {
-            name: "theta",
-            value: theta.to_string(),
-            reason: "the polar angle must lie in [0, pi]".into(),
-        });
+        return Err(Error::invalid(
+            "theta",
+            theta.to_string(),
+            "the polar angle must lie in [0, pi]",
+        ));
     }
     Ok(theta)
 }

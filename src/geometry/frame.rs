@@ -104,31 +104,29 @@ impl Frame {
         for (name, v) in [("x", &x), ("y", &y), ("z", &z)] {
             let n = v.norm();
             if (n - 1.0).abs() > FRAME_TOLERANCE {
-                return Err(Error::InvalidArgument {
-                    name: "frame",
-                    value: show(),
-                    reason: format!("axis {name} has norm {n}, not 1 within {FRAME_TOLERANCE:e}"),
-                });
+                return Err(Error::invalid(
+                    "frame",
+                    show(),
+                    format!("axis {name} has norm {n}, not 1 within {FRAME_TOLERANCE:e}"),
+                ));
             }
         }
         for (name, d) in [("x.y", x.dot(&y)), ("y.z", y.dot(&z)), ("z.x", z.dot(&x))] {
             if d.abs() > FRAME_TOLERANCE {
-                return Err(Error::InvalidArgument {
-                    name: "frame",
-                    value: show(),
-                    reason: format!(
-                        "axes not orthogonal: {name} = {d:e} exceeds {FRAME_TOLERANCE:e}"
-                    ),
-                });
+                return Err(Error::invalid(
+                    "frame",
+                    show(),
+                    format!("axes not orthogonal: {name} = {d:e} exceeds {FRAME_TOLERANCE:e}"),
+                ));
             }
         }
         let det = x.cross(&y).dot(&z);
         if det < 0.0 {
-            return Err(Error::InvalidArgument {
-                name: "frame",
-                value: show(),
-                reason: format!("left-handed: (x cross y) . z = {det}"),
-            });
+            return Err(Error::invalid(
+                "frame",
+                show(),
+                format!("left-handed: (x cross y) . z = {det}"),
+            ));
         }
         Ok(Self::orthonormalized(&z, &x))
     }
@@ -176,11 +174,11 @@ impl Frame {
         let p = h - zn * zn.dot(h);
         let (pn, hn) = (p.norm(), h.norm());
         if hn == 0.0 || pn <= 1e-12 * hn {
-            return Err(Error::InvalidArgument {
+            return Err(Error::invalid(
                 name,
-                value: format!("{:?}", arr(h)),
-                reason: format!("parallel to (or zero against) z = {:?}", arr(z)),
-            });
+                format!("{:?}", arr(h)),
+                format!("parallel to (or zero against) z = {:?}", arr(z)),
+            ));
         }
         Ok((Self::orthonormalized(&zn, &p), pn))
     }
@@ -532,11 +530,11 @@ impl CubeMapFrameField {
         use crate::geometry::image_grid::PixelGrid;
         match grid.texel(i) {
             Some((face, _)) if i < grid.len() => Self::face_frame(face, grid.direction(i)),
-            _ => Err(Error::InvalidArgument {
-                name: "cube cross texel",
-                value: i.to_string(),
-                reason: "not on a face of the cross".into(),
-            }),
+            _ => Err(Error::invalid(
+                "cube cross texel",
+                i.to_string(),
+                "not on a face of the cross",
+            )),
         }
     }
 }

@@ -130,11 +130,11 @@ impl CubeCross {
             .zip(edge.checked_mul(4))
             .and_then(|(h, w)| h.checked_mul(w));
         if texels.is_none() {
-            return Err(Error::InvalidArgument {
-                name: "cube map edge",
-                value: edge.to_string(),
-                reason: "the cross's 3e x 4e texels overflow".into(),
-            });
+            return Err(Error::invalid(
+                "cube map edge",
+                edge.to_string(),
+                "the cross's 3e x 4e texels overflow",
+            ));
         }
         Ok(Self { edge })
     }
@@ -142,11 +142,11 @@ impl CubeCross {
     /// The cross layout of an image of `height x width`, which must be `3e x 4e`.
     pub fn from_image_size(height: usize, width: usize) -> Result<Self> {
         if height == 0 || height % 3 != 0 || width * 3 != height * 4 {
-            return Err(Error::InvalidArgument {
-                name: "cube cross size",
-                value: format!("{height} x {width}"),
-                reason: "a cube cross has 3e rows and 4e columns".into(),
-            });
+            return Err(Error::invalid(
+                "cube cross size",
+                format!("{height} x {width}"),
+                "a cube cross has 3e rows and 4e columns",
+            ));
         }
         Self::new(height / 3)
     }
@@ -265,11 +265,11 @@ impl Equirect {
             });
         }
         if height.checked_mul(width).is_none() {
-            return Err(Error::InvalidArgument {
-                name: "equirectangular image",
-                value: format!("{height} x {width}"),
-                reason: "the number of texels overflows".into(),
-            });
+            return Err(Error::invalid(
+                "equirectangular image",
+                format!("{height} x {width}"),
+                "the number of texels overflows",
+            ));
         }
         Ok(Self { height, width })
     }

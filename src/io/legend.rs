@@ -17,11 +17,8 @@ pub(crate) fn register_font() -> Result<()> {
     let ok = *REGISTERED.get_or_init(|| {
         plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular()).is_ok()
     });
-    ok.then_some(()).ok_or_else(|| Error::InvalidArgument {
-        name: "font",
-        value: "DejaVu Sans".into(),
-        reason: "the bundled font did not load".into(),
-    })
+    ok.then_some(())
+        .ok_or_else(|| Error::invalid("font", "DejaVu Sans", "the bundled font did not load"))
 }
 
 /// A colour bar: the colour at each `t` in `[0, 1]` (left to right) and ticks `(t, label)`.
@@ -98,10 +95,12 @@ impl Legend<'_> {
         crate::error::check_len("picture pixels", w.saturating_mul(h), rgb.len())?;
         let width = w.max(LEGEND_MIN_WIDTH);
         let strip_h = self.height();
-        let too_big = || Error::InvalidArgument {
-            name: "picture size",
-            value: format!("{w}x{h}"),
-            reason: "a picture with its legend is at most 2^31 pixels on a side".into(),
+        let too_big = || {
+            Error::invalid(
+                "picture size",
+                format!("{w}x{h}"),
+                "a picture with its legend is at most 2^31 pixels on a side",
+            )
         };
         let (w32, h32) = (
             u32::try_from(width).map_err(|_| too_big())?,
@@ -122,10 +121,8 @@ impl Legend<'_> {
     /// `picture_w` wide (the panels divide it).
     fn draw(&self, buf: &mut [u8], width: u32, height: u32, picture_w: usize) -> Result<()> {
         register_font()?;
-        let err = |e: &dyn std::fmt::Display| Error::InvalidArgument {
-            name: "legend",
-            value: self.title.clone(),
-            reason: format!("drawing failed: {e}"),
+        let err = |e: &dyn std::fmt::Display| {
+            Error::invalid("legend", self.title.clone(), format!("drawing failed: {e}"))
         };
         let root = BitMapBackend::with_buffer(buf, (width, height)).into_drawing_area();
         let [r, g, b] = BACKGROUND;

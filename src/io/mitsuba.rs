@@ -55,18 +55,18 @@ pub fn export_mitsuba(
     env_rows: usize,
 ) -> Result<MitsubaExport> {
     if spp == 0 {
-        return Err(Error::InvalidArgument {
-            name: "samples per pixel",
-            value: spp.to_string(),
-            reason: "at least 1".into(),
-        });
+        return Err(Error::invalid(
+            "samples per pixel",
+            spp.to_string(),
+            "at least 1",
+        ));
     }
     if env_rows < 2 {
-        return Err(Error::InvalidArgument {
-            name: "environment rows",
-            value: env_rows.to_string(),
-            reason: "at least 2".into(),
-        });
+        return Err(Error::invalid(
+            "environment rows",
+            env_rows.to_string(),
+            "at least 2",
+        ));
     }
     // The image (f32 RGB) and its f64 evaluation.
     crate::budget::check(
@@ -256,11 +256,11 @@ fn material(k: usize, m: &SceneMaterial, differences: &mut Vec<String>) -> Resul
 }
 
 fn unsupported(k: usize, what: &str) -> Error {
-    Error::InvalidArgument {
-        name: "material",
-        value: k.to_string(),
-        reason: format!("{what}: no Mitsuba 3 equivalent to export"),
-    }
+    Error::invalid(
+        "material",
+        k.to_string(),
+        format!("{what}: no Mitsuba 3 equivalent to export"),
+    )
 }
 
 /// The environment as Mitsuba's emitter: a constant radiance per channel, or a lat-long

@@ -64,11 +64,8 @@ pub(crate) fn reverse_frame(s: [f64; 4]) -> [f64; 4] {
 /// four files that differ from it in the digit after the last `_s`.
 pub fn component_paths(pattern: impl AsRef<Path>) -> Result<[PathBuf; 4]> {
     let path = pattern.as_ref();
-    let bad = |reason: &str| Error::InvalidArgument {
-        name: "Stokes file pattern",
-        value: path.display().to_string(),
-        reason: reason.into(),
-    };
+    let bad =
+        |reason: &str| Error::invalid("Stokes file pattern", path.display().to_string(), reason);
     let pattern = path
         .to_str()
         .ok_or_else(|| bad("the pattern must be valid UTF-8"))?;
@@ -103,10 +100,10 @@ pub(crate) fn io_error(path: &Path, source: std::io::Error) -> Error {
 
 /// A malformed file: `path` and the reason.
 pub(crate) fn malformed(path: &Path, reason: impl Into<String>) -> Error {
-    Error::MalformedFile {
-        path: path.to_path_buf(),
-        reason: crate::error::clip_to(&reason.into(), crate::error::MAX_REASON_TEXT),
-    }
+    Error::malformed(
+        path.to_path_buf(),
+        crate::error::clip_to(&reason.into(), crate::error::MAX_REASON_TEXT),
+    )
 }
 
 #[cfg(test)]

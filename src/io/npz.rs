@@ -328,10 +328,7 @@ pub fn read_npy(path: impl AsRef<Path>) -> Result<(Vec<u64>, Vec<f64>)> {
         path: path.to_path_buf(),
         source,
     })?;
-    let bad = |reason: String| Error::MalformedFile {
-        path: path.to_path_buf(),
-        reason,
-    };
+    let bad = |reason: String| Error::malformed(path.to_path_buf(), reason);
     let npy = npyz::NpyFile::new(&bytes[..]).map_err(|e| bad(format!("not a .npy file: {e}")))?;
     if npy.order() != npyz::Order::C && npy.shape().len() > 1 {
         return Err(bad("expected a C-order array".into()));
@@ -348,10 +345,10 @@ pub fn read_npy_shaped(path: impl AsRef<Path>, want: &[u64]) -> Result<Vec<f64>>
     let path = path.as_ref();
     let (shape, data) = read_npy(path)?;
     if shape != want {
-        return Err(Error::MalformedFile {
-            path: path.to_path_buf(),
-            reason: format!("expected an array of shape {want:?}, got {shape:?}"),
-        });
+        return Err(Error::malformed(
+            path.to_path_buf(),
+            format!("expected an array of shape {want:?}, got {shape:?}"),
+        ));
     }
     Ok(data)
 }
@@ -363,10 +360,10 @@ pub fn read_npy_rows(path: impl AsRef<Path>, width: u64) -> Result<(usize, Vec<f
     let (shape, data) = read_npy(path)?;
     match shape[..] {
         [n, w] if w == width && n > 0 => Ok((n as usize, data)),
-        _ => Err(Error::MalformedFile {
-            path: path.to_path_buf(),
-            reason: format!("expected an array of shape [n, {width}] with n >= 1, got {shape:?}"),
-        }),
+        _ => Err(Error::malformed(
+            path.to_path_buf(),
+            format!("expected an array of shape [n, {width}] with n >= 1, got {shape:?}"),
+        )),
     }
 }
 

@@ -92,14 +92,14 @@ pub fn refuse_input(inputs: &[PathBuf], output: &Path) -> Result<()> {
         .iter()
         .find(|i| i.canonicalize().is_ok_and(|i| i == out))
     {
-        Some(input) => Err(Error::InvalidArgument {
-            name: "output file",
-            value: clip(&output.display().to_string()),
-            reason: format!(
+        Some(input) => Err(Error::invalid(
+            "output file",
+            clip(&output.display().to_string()),
+            format!(
                 "it is the input {}; psh does not overwrite the files it reads",
                 clip(&input.display().to_string())
             ),
-        }),
+        )),
         None => Ok(()),
     }
 }
@@ -114,10 +114,12 @@ pub fn write_file(
     let target = path.as_ref().to_path_buf();
     let inputs = GROUP.with(|g| g.borrow().as_ref().map(|g| g.inputs.clone()));
     refuse_input(inputs.as_deref().unwrap_or(&[]), &target)?;
-    let name = target.file_name().ok_or_else(|| Error::InvalidArgument {
-        name: "output file",
-        value: clip(&target.display().to_string()),
-        reason: "no file name".into(),
+    let name = target.file_name().ok_or_else(|| {
+        Error::invalid(
+            "output file",
+            clip(&target.display().to_string()),
+            "no file name",
+        )
     })?;
     let temp = target.with_file_name(format!(
         ".{}.psh-{}-{}.partial",
@@ -157,14 +159,14 @@ pub fn write_file(
 /// The error of a writer given a non-finite value (`what`, e.g. `coefficient 7`): psh
 /// writes finite values only, and `path` is left as it was.
 pub(crate) fn not_finite(path: &Path, what: String, value: f64) -> Error {
-    Error::InvalidArgument {
-        name: "value to write",
-        value: format!("{what} = {value}"),
-        reason: format!(
+    Error::invalid(
+        "value to write",
+        format!("{what} = {value}"),
+        format!(
             "{} not written: psh writes finite values only",
             clip(&path.display().to_string())
         ),
-    }
+    )
 }
 
 /// Writes `text` to the file `path` as [`write_file`]; returns the path.

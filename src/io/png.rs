@@ -42,10 +42,12 @@ pub fn write_png(
 ) -> Result<()> {
     let path = path.as_ref();
     let size = |n: usize| {
-        u32::try_from(n).map_err(|_| Error::InvalidArgument {
-            name: "PNG size",
-            value: format!("{width}x{height}"),
-            reason: "a PNG side is at most 2^32 - 1 pixels".into(),
+        u32::try_from(n).map_err(|_| {
+            Error::invalid(
+                "PNG size",
+                format!("{width}x{height}"),
+                "a PNG side is at most 2^32 - 1 pixels",
+            )
         })
     };
     let (w32, h32) = (size(width)?, size(height)?);
@@ -406,11 +408,11 @@ pub fn write_matrix_png(
 ) -> Result<()> {
     crate::error::check_len("matrix", n * n, abs.len())?;
     if cell == 0 {
-        return Err(Error::InvalidArgument {
-            name: "cell",
-            value: "0".into(),
-            reason: "a matrix entry needs at least one pixel".into(),
-        });
+        return Err(Error::invalid(
+            "cell",
+            "0",
+            "a matrix entry needs at least one pixel",
+        ));
     }
     let max = abs.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let max = if max > 0.0 { max } else { 1.0 };

@@ -81,10 +81,7 @@ pub fn read_scene_spec(path: impl AsRef<Path>) -> Result<SceneSpec> {
     // The parser's message quotes the file's line: each line clipped.
     toml::from_str(&text).map_err(|e| {
         let lines: Vec<String> = e.to_string().lines().map(clip).collect();
-        Error::MalformedFile {
-            path: path.to_path_buf(),
-            reason: lines.join("\n"),
-        }
+        Error::malformed(path.to_path_buf(), lines.join("\n"))
     })
 }
 
@@ -98,13 +95,13 @@ impl SceneDirectory<'_> {
     /// The path of `p` as the scene file writes it.
     fn resolve(&self, p: &str) -> Result<PathBuf> {
         match p.strip_prefix("data:") {
-            Some(_) if !data_dir().is_dir() => Err(Error::MalformedFile {
-                path: self.origin.to_path_buf(),
-                reason: format!(
+            Some(_) if !data_dir().is_dir() => Err(Error::malformed(
+                self.origin.to_path_buf(),
+                format!(
                     "'{p}' needs the shared data directory {}, which is missing (set PSH_DATA_DIR)",
                     data_dir().display()
                 ),
-            }),
+            )),
             Some(rest) => Ok(data_dir().join(rest)),
             None => Ok(self.origin.parent().unwrap_or(Path::new(".")).join(p)),
         }

@@ -61,18 +61,14 @@ impl Isd {
         let m = transfer_matrix(&beta, &directions)?;
         let condition = condition_number(&m);
         if condition.is_nan() || condition > MAX_CONDITION {
-            return Err(Error::InvalidArgument {
-                name: "ISD direction set",
-                value: format!(
+            return Err(Error::invalid("ISD direction set", format!(
                     "{:?} {} directions at L = {} (condition number of M {condition:e})",
                     directions.sharing(),
                     profile.name(),
                     directions.lmax()
-                ),
-                reason: format!(
+                ), format!(
                     "M is singular or too ill-conditioned (bound {MAX_CONDITION:e}); use per-band or better spread directions"
-                ),
-            });
+                )));
         }
         let lu = m.clone().lu();
         Ok(Self {
@@ -120,19 +116,21 @@ impl Isd {
     pub fn weights(&self, c: &[f64]) -> Result<Vec<f64>> {
         check_len("kernel SH coefficients", num_coeffs(self.lmax()), c.len())?;
         if let Some((i, v)) = c.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(Error::InvalidArgument {
-                name: "kernel SH coefficient",
-                value: format!("c[{i}] = {v}"),
-                reason: "kernel coefficients must be finite".into(),
-            });
+            return Err(Error::invalid(
+                "kernel SH coefficient",
+                format!("c[{i}] = {v}"),
+                "kernel coefficients must be finite",
+            ));
         }
         let x = self
             .lu
             .solve(&DVector::from_column_slice(c))
-            .ok_or_else(|| Error::InvalidArgument {
-                name: "ISD direction set",
-                value: format!("condition number {:e}", self.condition),
-                reason: "the LU factors of M are singular".into(),
+            .ok_or_else(|| {
+                Error::invalid(
+                    "ISD direction set",
+                    format!("condition number {:e}", self.condition),
+                    "the LU factors of M are singular",
+                )
             })?;
         Ok(x.iter().copied().collect())
     }

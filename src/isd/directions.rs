@@ -98,11 +98,8 @@ impl DirectionSet {
         };
         check_len("ISD directions", expected, dirs.len())?;
         for &w in &dirs {
-            check_direction(w).map_err(|e| Error::InvalidArgument {
-                name: "ISD direction",
-                value: format!("{w:?}"),
-                reason: e.to_string(),
-            })?;
+            check_direction(w)
+                .map_err(|e| Error::invalid("ISD direction", format!("{w:?}"), e.to_string()))?;
         }
         Ok(Self {
             lmax,

@@ -37,11 +37,11 @@ impl PreConvolved {
         let lmax = isd.lmax();
         check_len("signal SH coefficients", num_coeffs(lmax), f.len())?;
         if let Some((i, v)) = f.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(Error::InvalidArgument {
-                name: "signal SH coefficient",
-                value: format!("f[{i}] = {v}"),
-                reason: "signal coefficients must be finite".into(),
-            });
+            return Err(Error::invalid(
+                "signal SH coefficient",
+                format!("f[{i}] = {v}"),
+                "signal coefficients must be finite",
+            ));
         }
         Ok(Self {
             profile: isd.profile(),
@@ -75,15 +75,15 @@ impl PreConvolved {
     /// Checks that `isd` is the basis this signal was pre-convolved for.
     fn check_basis(&self, isd: &Isd) -> Result<()> {
         if isd.profile() != self.profile || isd.lmax() != self.ev.lmax() {
-            return Err(Error::InvalidArgument {
-                name: "ISD basis",
-                value: format!("{} at L = {}", isd.profile().name(), isd.lmax()),
-                reason: format!(
+            return Err(Error::invalid(
+                "ISD basis",
+                format!("{} at L = {}", isd.profile().name(), isd.lmax()),
+                format!(
                     "the signal was pre-convolved for {} at L = {}",
                     self.profile.name(),
                     self.ev.lmax()
                 ),
-            });
+            ));
         }
         Ok(())
     }

@@ -106,19 +106,19 @@ impl Lattice {
             finite("box corner", min[i])?;
             finite("box corner", max[i])?;
             if min[i] >= max[i] {
-                return Err(Error::InvalidArgument {
-                    name: "box",
-                    value: format!("{min:?} .. {max:?}"),
-                    reason: "needs min < max on every axis".into(),
-                });
+                return Err(Error::invalid(
+                    "box",
+                    format!("{min:?} .. {max:?}"),
+                    "needs min < max on every axis",
+                ));
             }
         }
         if max_level > MAX_LEVEL {
-            return Err(Error::InvalidArgument {
-                name: "max_level",
-                value: max_level.to_string(),
-                reason: format!("at most {MAX_LEVEL}"),
-            });
+            return Err(Error::invalid(
+                "max_level",
+                max_level.to_string(),
+                format!("at most {MAX_LEVEL}"),
+            ));
         }
         Ok(Self {
             min,
@@ -147,11 +147,11 @@ impl Lattice {
             finite("point", x[i])?;
             let t = (x[i] - self.min[i]) / (self.max[i] - self.min[i]);
             if !(0.0..=1.0).contains(&t) {
-                return Err(Error::InvalidArgument {
-                    name: "point",
-                    value: format!("{x:?}"),
-                    reason: format!("outside the grid box {:?} .. {:?}", self.min, self.max),
-                });
+                return Err(Error::invalid(
+                    "point",
+                    format!("{x:?}"),
+                    format!("outside the grid box {:?} .. {:?}", self.min, self.max),
+                ));
             }
             v[i] = ((t * n as f64) as u32).min(n - 1);
         }
@@ -353,12 +353,11 @@ impl LightGrid {
                 return Ok((level, v));
             }
         }
-        Err(Error::InvalidArgument {
-            name: "point",
-            value: format!("{x:?}"),
-            reason: "not in a shading voxel of the grid (not among the points it was built for)"
-                .into(),
-        })
+        Err(Error::invalid(
+            "point",
+            format!("{x:?}"),
+            "not in a shading voxel of the grid (not among the points it was built for)",
+        ))
     }
 
     /// The coefficients at `x` interpolated from the 8 corners of its shading voxel with

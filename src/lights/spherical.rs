@@ -42,11 +42,11 @@ impl SphericalLight {
         finite("light radius", radius)?;
         finite("light radiance", radiance)?;
         if radius <= 0.0 {
-            return Err(Error::InvalidArgument {
-                name: "light radius",
-                value: radius.to_string(),
-                reason: "a spherical light needs a positive radius".into(),
-            });
+            return Err(Error::invalid(
+                "light radius",
+                radius.to_string(),
+                "a spherical light needs a positive radius",
+            ));
         }
         Ok(Self {
             center,
@@ -83,14 +83,14 @@ impl SphericalLight {
         ];
         let dist = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         if dist <= self.radius {
-            return Err(Error::InvalidArgument {
-                name: "shading point",
-                value: format!("{x:?}"),
-                reason: format!(
+            return Err(Error::invalid(
+                "shading point",
+                format!("{x:?}"),
+                format!(
                     "inside the spherical light of center {:?} and radius {} (distance {dist})",
                     self.center, self.radius
                 ),
-            });
+            ));
         }
         Ok((d, dist))
     }

@@ -50,11 +50,11 @@ impl Incidence {
     /// value in radians and degrees): NaN, infinite or outside `[0, pi/2)`.
     pub fn from_angle(theta: f64) -> Result<Self> {
         if !(0.0..FRAC_PI_2).contains(&theta) {
-            return Err(Error::InvalidArgument {
-                name: "angle of incidence theta",
-                value: format!("{theta} rad ({} degrees)", theta.to_degrees()),
-                reason: "must be in [0, 90) degrees".into(),
-            });
+            return Err(Error::invalid(
+                "angle of incidence theta",
+                format!("{theta} rad ({} degrees)", theta.to_degrees()),
+                "must be in [0, 90) degrees",
+            ));
         }
         let (s, c) = theta.sin_cos();
         Ok(Self {
@@ -66,11 +66,11 @@ impl Incidence {
     /// `theta` in degrees, `0 <= theta < 90`. Errors as [`Incidence::from_angle`].
     pub fn from_degrees(degrees: f64) -> Result<Self> {
         if !(0.0..90.0).contains(&degrees) {
-            return Err(Error::InvalidArgument {
-                name: "angle of incidence theta",
-                value: format!("{degrees} degrees"),
-                reason: "must be in [0, 90) degrees".into(),
-            });
+            return Err(Error::invalid(
+                "angle of incidence theta",
+                format!("{degrees} degrees"),
+                "must be in [0, 90) degrees",
+            ));
         }
         Self::from_angle(degrees.to_radians().min(below_right_angle()))
     }
@@ -79,11 +79,11 @@ impl Incidence {
     /// (`cos theta = 0` is 90 degrees, excluded).
     pub fn from_cos(cos_theta: f64) -> Result<Self> {
         if !(cos_theta > 0.0 && cos_theta <= 1.0) {
-            return Err(Error::InvalidArgument {
-                name: "cos of the angle of incidence",
-                value: format!("{cos_theta}"),
-                reason: "must be in (0, 1] (theta in [0, 90) degrees)".into(),
-            });
+            return Err(Error::invalid(
+                "cos of the angle of incidence",
+                format!("{cos_theta}"),
+                "must be in (0, 1] (theta in [0, 90) degrees)",
+            ));
         }
         Ok(Self {
             cos: cos_theta,
@@ -129,11 +129,11 @@ fn below_right_angle() -> f64 {
 /// A validated specular colour `R_0` in `[0, 1)` (one channel).
 fn check_r0(r0: f64) -> Result<f64> {
     if !(0.0..1.0).contains(&r0) {
-        return Err(Error::InvalidArgument {
-            name: "specular colour R_0",
-            value: format!("{r0}"),
-            reason: "must be in [0, 1)".into(),
-        });
+        return Err(Error::invalid(
+            "specular colour R_0",
+            format!("{r0}"),
+            "must be in [0, 1)",
+        ));
     }
     Ok(r0)
 }
@@ -236,11 +236,11 @@ pub fn psi_conductor_approx(r0: f64, theta: Incidence) -> Result<f64> {
 /// paper). Errors: `R_0` NaN or outside `[0, 1)`; `metalness` NaN or outside `[0, 1]`.
 pub fn psi_approx(r0: f64, theta: Incidence, metalness: f64) -> Result<f64> {
     if !(0.0..=1.0).contains(&metalness) {
-        return Err(Error::InvalidArgument {
-            name: "metalness",
-            value: format!("{metalness}"),
-            reason: "must be in [0, 1]".into(),
-        });
+        return Err(Error::invalid(
+            "metalness",
+            format!("{metalness}"),
+            "must be in [0, 1]",
+        ));
     }
     if metalness > 0.5 {
         psi_conductor_approx(r0, theta)
@@ -280,11 +280,11 @@ pub fn filter_angle(camera_x: [f64; 3], h: [f64; 3], v: [f64; 3], omega: f64) ->
     let h = Vector3::from(check_direction(h)?);
     let v = Vector3::from(check_direction(v)?);
     if xc.cross(&v).norm() <= 1e-12 {
-        return Err(Error::InvalidArgument {
-            name: "camera x axis",
-            value: format!("{camera_x:?}"),
-            reason: format!("parallel to the view direction {:?}", [v[0], v[1], v[2]]),
-        });
+        return Err(Error::invalid(
+            "camera x axis",
+            format!("{camera_x:?}"),
+            format!("parallel to the view direction {:?}", [v[0], v[1], v[2]]),
+        ));
     }
     // atan2 is invariant under a positive scale of x'; scaling by the largest component
     // instead of normalizing keeps tiny cross products (grazing) from underflowing.
@@ -321,11 +321,11 @@ pub fn mueller_filtered_reflection(
     let sum = wi_v + wo_v;
     let len = sum.norm();
     if len == 0.0 {
-        return Err(Error::InvalidArgument {
-            name: "directions w_i, w_o",
-            value: format!("{wi:?}, {wo:?}"),
-            reason: "opposite: no facet reflects one into the other".into(),
-        });
+        return Err(Error::invalid(
+            "directions w_i, w_o",
+            format!("{wi:?}, {wo:?}"),
+            "opposite: no facet reflects one into the other",
+        ));
     }
     let theta = Incidence::from_cos((sum / len).dot(&wi_v).min(1.0))?;
     let fresnel = FresnelCoefficients::new(theta.cos, ior)?;

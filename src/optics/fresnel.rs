@@ -46,11 +46,11 @@ impl FresnelCoefficients {
     /// `ior`. Error: `cos_i` NaN or outside `[0, 1]`.
     pub fn new(cos_i: f64, ior: &ComplexIor) -> Result<Self> {
         if !(0.0..=1.0).contains(&cos_i) {
-            return Err(Error::InvalidArgument {
-                name: "cos_theta_i",
-                value: format!("{cos_i}"),
-                reason: "must be in [0, 1]".to_string(),
-            });
+            return Err(Error::invalid(
+                "cos_theta_i",
+                format!("{cos_i}"),
+                "must be in [0, 1]".to_string(),
+            ));
         }
         let eta = ior.eta();
         let eta2 = eta * eta;

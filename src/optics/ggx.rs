@@ -47,11 +47,11 @@ impl Ggx {
     /// that range.
     pub fn new(alpha: f64) -> Result<Self> {
         if !(MIN_ROUGHNESS..=MAX_ROUGHNESS).contains(&alpha) {
-            return Err(Error::InvalidArgument {
-                name: "roughness alpha",
-                value: format!("{alpha}"),
-                reason: format!("must be in [{MIN_ROUGHNESS:e}, {MAX_ROUGHNESS:e}]"),
-            });
+            return Err(Error::invalid(
+                "roughness alpha",
+                format!("{alpha}"),
+                format!("must be in [{MIN_ROUGHNESS:e}, {MAX_ROUGHNESS:e}]"),
+            ));
         }
         Ok(Self {
             alpha,

@@ -21,11 +21,11 @@ impl Lambertian {
     /// ([`Error::InvalidArgument`] naming the value): NaN or outside `[0, 1]`.
     pub fn new(albedo: f64) -> Result<Self> {
         if !(0.0..=1.0).contains(&albedo) {
-            return Err(Error::InvalidArgument {
-                name: "diffuse albedo",
-                value: format!("{albedo}"),
-                reason: "must be in [0, 1]".to_string(),
-            });
+            return Err(Error::invalid(
+                "diffuse albedo",
+                format!("{albedo}"),
+                "must be in [0, 1]".to_string(),
+            ));
         }
         Ok(Self { albedo })
     }

@@ -220,13 +220,15 @@ impl Material {
         Self::ALL
             .into_iter()
             .find(|m| m.name().eq_ignore_ascii_case(alias))
-            .ok_or_else(|| Error::InvalidArgument {
-                name: "material name",
-                value: crate::error::clip(name),
-                reason: format!(
-                    "not in PF Table 1 ({})",
-                    Self::ALL.map(|m| m.name()).join(", ")
-                ),
+            .ok_or_else(|| {
+                Error::invalid(
+                    "material name",
+                    crate::error::clip(name),
+                    format!(
+                        "not in PF Table 1 ({})",
+                        Self::ALL.map(|m| m.name()).join(", ")
+                    ),
+                )
             })
     }
 

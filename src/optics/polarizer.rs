@@ -83,11 +83,11 @@ impl LinearPolarizer {
 /// negative or non-finite, `varphi` non-finite.
 pub fn malus_law(intensity: f64, varphi: f64) -> Result<f64> {
     if finite("intensity I_0", intensity)? < 0.0 {
-        return Err(crate::Error::InvalidArgument {
-            name: "intensity I_0",
-            value: format!("{intensity}"),
-            reason: "must be non-negative".into(),
-        });
+        return Err(crate::Error::invalid(
+            "intensity I_0",
+            format!("{intensity}"),
+            "must be non-negative",
+        ));
     }
     let c = finite("Malus angle varphi", varphi)?.cos();
     Ok(intensity * c * c)

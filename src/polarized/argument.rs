@@ -38,14 +38,14 @@ impl FieldArgument {
         if given == self {
             return Ok(());
         }
-        Err(Error::InvalidArgument {
-            name: what,
-            value: format!("indexed by the {} direction", given.name()),
-            reason: format!(
+        Err(Error::invalid(
+            what,
+            format!("indexed by the {} direction", given.name()),
+            format!(
                 "{expected_by} is indexed by the {} direction; convert explicitly \
                  (PshVector::converted / with_input)",
                 self.name()
             ),
-        })
+        ))
     }
 }

@@ -98,11 +98,11 @@ pub struct KernelCoefficients {
 pub fn kernel_coefficients(kernel: &ConvolutionKernel, lmax: usize) -> Result<KernelCoefficients> {
     check_lmax(lmax)?;
     if let Some(n) = kernel.samples().filter(|&n| n < lmax + 1) {
-        return Err(Error::InvalidArgument {
-            name: "kernel table",
-            value: format!("{n} samples"),
-            reason: format!("band limit {lmax} needs at least {} samples", lmax + 1),
-        });
+        return Err(Error::invalid(
+            "kernel table",
+            format!("{n} samples"),
+            format!("band limit {lmax} needs at least {} samples", lmax + 1),
+        ));
     }
     let panels = 1 + lmax / PANEL_WIDTH;
     let mut edges: Vec<f64> = (0..=panels)
@@ -182,11 +182,7 @@ impl KernelCoefficients {
         let lmax = g
             .len()
             .checked_sub(1)
-            .ok_or_else(|| Error::InvalidArgument {
-                name: "kernel coefficients",
-                value: "no bands".into(),
-                reason: "at least l = 0".into(),
-            })?;
+            .ok_or_else(|| Error::invalid("kernel coefficients", "no bands", "at least l = 0"))?;
         check_lmax(lmax)?;
         for (l, gl) in g.iter_mut().enumerate() {
             for q in 0..4 {
@@ -196,11 +192,11 @@ impl KernelCoefficients {
                     }
                     let g = gl[q][p];
                     if !(g.re.is_finite() && g.im.is_finite()) {
-                        return Err(Error::InvalidArgument {
-                            name: "kernel coefficient",
-                            value: format!("G[{l}][{q}][{p}] = {g}"),
-                            reason: "finite values".into(),
-                        });
+                        return Err(Error::invalid(
+                            "kernel coefficient",
+                            format!("G[{l}][{q}][{p}] = {g}"),
+                            "finite values",
+                        ));
                     }
                 }
             }
@@ -270,11 +266,11 @@ impl KernelCoefficients {
     pub fn convolve(&self, f: &PshVector) -> Result<PshVector> {
         let lmax = self.lmax();
         if f.lmax() != lmax {
-            return Err(Error::InvalidArgument {
-                name: "PSH vector",
-                value: format!("lmax {}", f.lmax()),
-                reason: format!("the kernel coefficients have lmax {lmax}"),
-            });
+            return Err(Error::invalid(
+                "PSH vector",
+                format!("lmax {}", f.lmax()),
+                format!("the kernel coefficients have lmax {lmax}"),
+            ));
         }
         let n = num_coeffs(lmax);
         let padded;
@@ -454,11 +450,7 @@ pub fn project_to_convolution(m: &PshMatrix) -> Result<(KernelCoefficients, f64)
         let svd = basis.svd(true, true);
         let theta = svd
             .solve(&target, 1e-12)
-            .map_err(|e| Error::InvalidArgument {
-                name: "convolution projection",
-                value: format!("band {l}"),
-                reason: e.into(),
-            })?;
+            .map_err(|e| Error::invalid("convolution projection", format!("band {l}"), e))?;
         forms.push(std::array::from_fn(|q| {
             std::array::from_fn(|p| theta[q * 4 + p])
         }));

@@ -90,11 +90,11 @@ impl PshEvaluator {
         out: &mut [[f64; 4]],
     ) -> Result<Frame> {
         if v.lmax() > self.lmax() {
-            return Err(Error::InvalidArgument {
-                name: "PSH vector lmax",
-                value: v.lmax().to_string(),
-                reason: format!("the evaluator's band limit is {}", self.lmax()),
-            });
+            return Err(Error::invalid(
+                "PSH vector lmax",
+                v.lmax().to_string(),
+                format!("the evaluator's band limit is {}", self.lmax()),
+            ));
         }
         check_len("Stokes components per channel", v.channels(), out.len())?;
         // Scalar SH needs no spin-2 basis.

@@ -141,11 +141,11 @@ pub(crate) fn check_texel(c: usize, i: usize, s: [f64; 4]) -> Result<()> {
     if s.iter().all(|x| x.is_finite()) {
         return Ok(());
     }
-    Err(Error::InvalidArgument {
-        name: "Stokes texel",
-        value: format!("channel {c}, texel {i}: {s:?}"),
-        reason: "components must be finite".into(),
-    })
+    Err(Error::invalid(
+        "Stokes texel",
+        format!("channel {c}, texel {i}: {s:?}"),
+        "components must be finite",
+    ))
 }
 
 /// The factor `e^{-2 i vartheta}` that takes `s1 + i s2` from frame `from` to the frame of

@@ -150,13 +150,13 @@ impl IsotropicMatrix {
     pub fn from_dense(m: &PshMatrix, tolerance: f64) -> Result<Self> {
         let defect = isotropy_defect(m);
         if defect > tolerance {
-            return Err(Error::InvalidArgument {
-                name: "isotropy defect",
-                value: format!("{defect:e}"),
-                reason: format!(
+            return Err(Error::invalid(
+                "isotropy defect",
+                format!("{defect:e}"),
+                format!(
                     "entries PSH (52)-(53) require to vanish exceed {tolerance:e} of the largest"
                 ),
-            });
+            ));
         }
         let pairs = isotropic_pairs(m.lmax());
         let blocks = pairs
@@ -182,18 +182,14 @@ impl IsotropicMatrix {
     /// entries or entries outside PSH (31).
     pub fn from_blocks(lmax: usize, channels: usize, data: &[f64]) -> Result<Self> {
         if channels == 0 {
-            return Err(Error::InvalidArgument {
-                name: "channels",
-                value: "0".into(),
-                reason: "at least one channel".into(),
-            });
+            return Err(Error::invalid("channels", "0", "at least one channel"));
         }
         let pairs = isotropic_pairs(lmax);
-        let per_channel = pairs.len().checked_mul(16).ok_or(Error::InvalidArgument {
-            name: "lmax",
-            value: lmax.to_string(),
-            reason: "the isotropic layout's size overflows".into(),
-        })?;
+        let per_channel = pairs.len().checked_mul(16).ok_or(Error::invalid(
+            "lmax",
+            lmax.to_string(),
+            "the isotropic layout's size overflows",
+        ))?;
         check_len(
             "isotropic blocks",
             per_channel.saturating_mul(channels),
@@ -205,15 +201,15 @@ impl IsotropicMatrix {
             let (po, pi) = ((q / 4) % 4, q % 4);
             let spin2_low = !(in_index_set(jo, po) && in_index_set(ji, pi));
             if spin2_low && *x != 0.0 {
-                return Err(Error::InvalidArgument {
-                    name: "isotropic matrix entry",
-                    value: format!(
+                return Err(Error::invalid(
+                    "isotropic matrix entry",
+                    format!(
                         "channel {}, entry {}, [{po}][{pi}] = {x}",
                         q / per_channel,
                         (q / 16) % pairs.len()
                     ),
-                    reason: "spin-2 rows and columns start at l = 2 (PSH (31))".into(),
-                });
+                    "spin-2 rows and columns start at l = 2 (PSH (31))",
+                ));
             }
         }
         let blocks = data
@@ -233,21 +229,19 @@ impl IsotropicMatrix {
     /// The channels of `parts` side by side. Errors: no parts, or parts of different band
     /// limits or conventions, naming the first that differs.
     pub fn from_channels(parts: &[IsotropicMatrix]) -> Result<Self> {
-        let first = parts.first().ok_or_else(|| Error::InvalidArgument {
-            name: "isotropic matrices",
-            value: "[]".into(),
-            reason: "at least one matrix to stack".into(),
+        let first = parts.first().ok_or_else(|| {
+            Error::invalid("isotropic matrices", "[]", "at least one matrix to stack")
         })?;
         let key = |m: &IsotropicMatrix| (m.lmax, m.input, m.output);
         if let Some((k, m)) = parts.iter().enumerate().find(|(_, m)| key(m) != key(first)) {
-            return Err(Error::InvalidArgument {
-                name: "isotropic matrix",
-                value: format!("#{k}: lmax {}, {} -> {}", m.lmax, m.input, m.output),
-                reason: format!(
+            return Err(Error::invalid(
+                "isotropic matrix",
+                format!("#{k}: lmax {}, {} -> {}", m.lmax, m.input, m.output),
+                format!(
                     "the first has lmax {}, {} -> {}",
                     first.lmax, first.input, first.output
                 ),
-            });
+            ));
         }
         Ok(Self {
             channels: parts.iter().map(|m| m.channels).sum(),
@@ -310,11 +304,11 @@ impl IsotropicMatrix {
     /// The blocks of channel `c`. Error: `c` out of range.
     fn channel_blocks(&self, c: usize) -> Result<&[[[f64; 4]; 4]]> {
         if c >= self.channels {
-            return Err(Error::InvalidArgument {
-                name: "channel",
-                value: c.to_string(),
-                reason: format!("{} channels", self.channels),
-            });
+            return Err(Error::invalid(
+                "channel",
+                c.to_string(),
+                format!("{} channels", self.channels),
+            ));
         }
         Ok(&self.blocks[c * self.pairs.len()..][..self.pairs.len()])
     }
@@ -368,11 +362,11 @@ impl IsotropicMatrix {
     /// indexed as [`Self::input`], or of another number of channels.
     pub fn apply(&self, f: &PshVector) -> Result<PshVector> {
         if self.channels != 1 && self.channels != f.channels() {
-            return Err(Error::InvalidArgument {
-                name: "PSH vector",
-                value: format!("{} channels", f.channels()),
-                reason: format!("the isotropic matrix has {} channels", self.channels),
-            });
+            return Err(Error::invalid(
+                "PSH vector",
+                format!("{} channels", f.channels()),
+                format!("the isotropic matrix has {} channels", self.channels),
+            ));
         }
         let k_pairs = self.pairs.len();
         apply_by_channel((self.lmax, self.input, self.output), f, |c, x, out| {

@@ -65,11 +65,7 @@ impl ConvolutionKernel {
     /// non-monotone or non-finite angles, an uncovered end of `[0, pi]`, non-finite
     /// entries, or a number of values different from the number of angles.
     pub fn from_table(theta: Vec<f64>, values: Vec<KernelValue>) -> Result<Self> {
-        let bad = |value: String, reason: &str| Error::InvalidArgument {
-            name: "kernel table",
-            value,
-            reason: reason.into(),
-        };
+        let bad = |value: String, reason: &str| Error::invalid("kernel table", value, reason);
         if theta.len() != values.len() {
             return Err(bad(
                 format!("{} angles, {} values", theta.len(), values.len()),
@@ -127,19 +123,19 @@ impl ConvolutionKernel {
     /// `k(theta)`. Errors: `theta` outside `[0, pi]` or a non-finite value, naming it.
     pub fn value(&self, theta: f64) -> Result<KernelValue> {
         if !(0.0..=PI).contains(&theta) {
-            return Err(Error::InvalidArgument {
-                name: "kernel angle",
-                value: theta.to_string(),
-                reason: "theta in [0, pi]".into(),
-            });
+            return Err(Error::invalid(
+                "kernel angle",
+                theta.to_string(),
+                "theta in [0, pi]",
+            ));
         }
         let k = (self.eval)(theta);
         match k.iter().flatten().find(|x| !x.is_finite()) {
-            Some(x) => Err(Error::InvalidArgument {
-                name: "kernel",
-                value: format!("k({theta}) has {x}"),
-                reason: "a kernel must be finite on [0, pi]".into(),
-            }),
+            Some(x) => Err(Error::invalid(
+                "kernel",
+                format!("k({theta}) has {x}"),
+                "a kernel must be finite on [0, pi]",
+            )),
             None => Ok(k),
         }
     }

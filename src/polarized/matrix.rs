@@ -95,11 +95,11 @@ impl PshMatrix {
                     for pi in 0..4 {
                         let x = m.data[m.index(jo, ji, po, pi)];
                         if x != 0.0 && !(in_index_set(jo, po) && in_index_set(ji, pi)) {
-                            return Err(Error::InvalidArgument {
-                                name: "PSH matrix entry",
-                                value: format!("[{jo}][{ji}][{po}][{pi}] = {x}"),
-                                reason: "spin-2 rows and columns start at l = 2 (PSH (31))".into(),
-                            });
+                            return Err(Error::invalid(
+                                "PSH matrix entry",
+                                format!("[{jo}][{ji}][{po}][{pi}] = {x}"),
+                                "spin-2 rows and columns start at l = 2 (PSH (31))",
+                            ));
                         }
                     }
                 }
@@ -179,11 +179,11 @@ pub fn project_operator(
     block: SpinBlock22,
 ) -> Result<PshMatrix> {
     if grid_lmax < lmax.max(2) {
-        return Err(Error::InvalidArgument {
-            name: "grid_lmax",
-            value: grid_lmax.to_string(),
-            reason: format!("must be at least max(lmax, 2) = {}", lmax.max(2)),
-        });
+        return Err(Error::invalid(
+            "grid_lmax",
+            grid_lmax.to_string(),
+            format!("must be at least max(lmax, 2) = {}", lmax.max(2)),
+        ));
     }
     let t = PshTransform::new(grid_lmax)?;
     let spin = t.spin2.as_ref().expect("grid_lmax >= 2");
@@ -413,11 +413,11 @@ impl PshMatrix {
     /// this matrix's.
     pub fn truncated(&self, lmax: usize) -> Result<PshMatrix> {
         if lmax > self.lmax {
-            return Err(Error::InvalidArgument {
-                name: "lmax",
-                value: lmax.to_string(),
-                reason: format!("the matrix has lmax {}", self.lmax),
-            });
+            return Err(Error::invalid(
+                "lmax",
+                lmax.to_string(),
+                format!("the matrix has lmax {}", self.lmax),
+            ));
         }
         let (n, m) = (num_coeffs(self.lmax), num_coeffs(lmax));
         let mut data = Vec::with_capacity(m * m * 16);
@@ -471,11 +471,11 @@ pub(super) fn apply_by_channel(
     product: impl Fn(usize, &[[f64; 4]], &mut [f64]),
 ) -> Result<PshVector> {
     if f.lmax() != lmax {
-        return Err(Error::InvalidArgument {
-            name: "PSH vector",
-            value: format!("lmax {}", f.lmax()),
-            reason: format!("the matrix has lmax {lmax}"),
-        });
+        return Err(Error::invalid(
+            "PSH vector",
+            format!("lmax {}", f.lmax()),
+            format!("the matrix has lmax {lmax}"),
+        ));
     }
     input.expect(f.argument(), "PSH vector", "the matrix's input")?;
     let n = num_coeffs(lmax);

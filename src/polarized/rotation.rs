@@ -57,11 +57,11 @@ impl PshRotation {
     /// The coefficients of `R_F[f]` (PSH (35)) for the coefficients of `f`.
     pub fn rotate(&self, v: &PshVector) -> Result<PshVector> {
         if v.lmax() != self.lmax() {
-            return Err(Error::InvalidArgument {
-                name: "PSH vector",
-                value: format!("lmax {}", v.lmax()),
-                reason: format!("the rotation was built for lmax {}", self.lmax()),
-            });
+            return Err(Error::invalid(
+                "PSH vector",
+                format!("lmax {}", v.lmax()),
+                format!("the rotation was built for lmax {}", self.lmax()),
+            ));
         }
         let mut out = v.clone();
         let mut scratch = Scratch::default();

@@ -83,15 +83,15 @@ impl SparsePshMatrix {
     /// Error: `f` of another band limit, codomain or convention than the input's.
     pub fn apply(&self, f: &PshVector) -> Result<PshVector> {
         if f.lmax() != self.lmax || f.codomain() != self.input {
-            return Err(Error::InvalidArgument {
-                name: "PSH vector",
-                value: format!("lmax {}, {}", f.lmax(), f.codomain().name()),
-                reason: format!(
+            return Err(Error::invalid(
+                "PSH vector",
+                format!("lmax {}, {}", f.lmax(), f.codomain().name()),
+                format!(
                     "the sparse matrix maps lmax {}, {}",
                     self.lmax,
                     self.input.name()
                 ),
-            });
+            ));
         }
         self.arguments
             .0

@@ -84,15 +84,15 @@ impl PshTransform {
     /// the grid points, in the theta-phi frame field (absent components are 0).
     pub fn reconstruct(&self, v: &PshVector, c: usize) -> Result<Vec<[f64; 4]>> {
         if v.lmax() != self.lmax() || c >= v.channels() {
-            return Err(Error::InvalidArgument {
-                name: "PSH vector",
-                value: format!("lmax {}, channel {c}", v.lmax()),
-                reason: format!(
+            return Err(Error::invalid(
+                "PSH vector",
+                format!("lmax {}, channel {c}", v.lmax()),
+                format!(
                     "this transform has lmax {} ({} channels given)",
                     self.lmax(),
                     v.channels()
                 ),
-            });
+            ));
         }
         let npts = self.grid().len();
         let mut out = vec![[0.0; 4]; npts];

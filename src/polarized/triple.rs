@@ -162,11 +162,11 @@ impl TripleTable {
     fn visibility<'a>(&self, v: &'a PshVector) -> Result<&'a [f64]> {
         check_scalar_field(v)?;
         if v.lmax() != self.lv {
-            return Err(Error::InvalidArgument {
-                name: "visibility",
-                value: format!("lmax {}", v.lmax()),
-                reason: format!("the triple table has visibilities of degree {}", self.lv),
-            });
+            return Err(Error::invalid(
+                "visibility",
+                format!("lmax {}", v.lmax()),
+                format!("the triple table has visibilities of degree {}", self.lv),
+            ));
         }
         Ok(v.data())
     }
@@ -182,15 +182,15 @@ impl TripleTable {
             .expect(f.argument(), "PSH vector", "the visibility")?;
         let v = coefficients;
         if f.lmax() != self.lmax || (f.codomain().has_spin2() && !self.has_spin2) {
-            return Err(Error::InvalidArgument {
-                name: "PSH vector",
-                value: format!("lmax {}, {}", f.lmax(), f.codomain().name()),
-                reason: format!(
+            return Err(Error::invalid(
+                "PSH vector",
+                format!("lmax {}, {}", f.lmax(), f.codomain().name()),
+                format!(
                     "the triple table has lmax {}{}",
                     self.lmax,
                     if self.has_spin2 { "" } else { ", spin 0 only" }
                 ),
-            });
+            ));
         }
         let mut out = f.clone();
         let c = real_to_complex(v, self.lv);
@@ -220,11 +220,11 @@ impl TripleTable {
         let argument = v.argument();
         let v = self.visibility(v)?;
         if !self.has_spin2 {
-            return Err(Error::InvalidArgument {
-                name: "triple table",
-                value: "spin 0 only".into(),
-                reason: "the full PSH matrix needs the spin-2 couplings (TripleTable::new)".into(),
-            });
+            return Err(Error::invalid(
+                "triple table",
+                "spin 0 only",
+                "the full PSH matrix needs the spin-2 couplings (TripleTable::new)",
+            ));
         }
         let n = num_coeffs(self.lmax);
         let mut data = vec![0.0; n * n * 16];
@@ -255,11 +255,11 @@ impl TripleTable {
 /// Error unless `v` is a one-channel scalar field (a visibility).
 fn check_scalar_field(v: &PshVector) -> Result<()> {
     if v.codomain() != Codomain::Intensity || v.channels() != 1 {
-        return Err(Error::InvalidArgument {
-            name: "visibility",
-            value: format!("{}, {} channels", v.codomain().name(), v.channels()),
-            reason: "a visibility is a one-channel scalar field (SCALAR)".into(),
-        });
+        return Err(Error::invalid(
+            "visibility",
+            format!("{}, {} channels", v.codomain().name(), v.channels()),
+            "a visibility is a one-channel scalar field (SCALAR)",
+        ));
     }
     Ok(())
 }

@@ -56,11 +56,7 @@ impl PshVector {
     pub fn zeros(lmax: usize, codomain: Codomain, channels: usize) -> Result<Self> {
         crate::sh::check_lmax(lmax)?;
         if channels == 0 {
-            return Err(Error::InvalidArgument {
-                name: "channels",
-                value: "0".into(),
-                reason: "at least one channel".into(),
-            });
+            return Err(Error::invalid("channels", "0", "at least one channel"));
         }
         let n = crate::budget::check(
             "PSH coefficients",
@@ -94,11 +90,11 @@ impl PshVector {
                 for (k, &p) in codomain.components().iter().enumerate() {
                     let x = v.data[v.offset(c, i) + k];
                     if !in_index_set(i, p) && x != 0.0 {
-                        return Err(Error::InvalidArgument {
-                            name: "PSH coefficient",
-                            value: format!("f[{c}][{i}][{p}] = {x}"),
-                            reason: "spin-2 coefficients start at l = 2 (PSH (31))".into(),
-                        });
+                        return Err(Error::invalid(
+                            "PSH coefficient",
+                            format!("f[{c}][{i}][{p}] = {x}"),
+                            "spin-2 coefficients start at l = 2 (PSH (31))",
+                        ));
                     }
                 }
             }
@@ -222,29 +218,27 @@ impl PshVector {
     /// parts of different band limits, codomains or arguments, naming the first that
     /// differs.
     pub fn from_channels(parts: &[PshVector]) -> Result<PshVector> {
-        let first = parts.first().ok_or_else(|| Error::InvalidArgument {
-            name: "PSH vectors",
-            value: "[]".into(),
-            reason: "at least one vector to stack".into(),
-        })?;
+        let first = parts
+            .first()
+            .ok_or_else(|| Error::invalid("PSH vectors", "[]", "at least one vector to stack"))?;
         if let Some((k, v)) = parts.iter().enumerate().find(|(_, v)| {
             v.lmax != first.lmax || v.codomain != first.codomain || v.argument != first.argument
         }) {
-            return Err(Error::InvalidArgument {
-                name: "PSH vector",
-                value: format!(
+            return Err(Error::invalid(
+                "PSH vector",
+                format!(
                     "#{k}: lmax {}, {}, {}",
                     v.lmax,
                     v.codomain.name(),
                     v.argument
                 ),
-                reason: format!(
+                format!(
                     "the first has lmax {}, {}, {}",
                     first.lmax,
                     first.codomain.name(),
                     first.argument
                 ),
-            });
+            ));
         }
         let data = parts.iter().flat_map(|v| v.data.iter().copied()).collect();
         let channels = parts.iter().map(|v| v.channels).sum();
@@ -258,11 +252,11 @@ impl PshVector {
     /// vector's.
     pub fn truncated(&self, lmax: usize) -> Result<PshVector> {
         if lmax > self.lmax {
-            return Err(Error::InvalidArgument {
-                name: "lmax",
-                value: lmax.to_string(),
-                reason: format!("the vector has lmax {}", self.lmax),
-            });
+            return Err(Error::invalid(
+                "lmax",
+                lmax.to_string(),
+                format!("the vector has lmax {}", self.lmax),
+            ));
         }
         let len = num_coeffs(lmax) * self.codomain.components().len();
         let data = (0..self.channels)
@@ -335,11 +329,11 @@ impl PshVector {
     fn check_index(&self, channel: usize, l: usize, m: i64) -> Result<()> {
         crate::sh::check_lm(l as i64, m)?;
         if l > self.lmax || channel >= self.channels {
-            return Err(Error::InvalidArgument {
-                name: "PSH index",
-                value: format!("channel {channel}, l {l}"),
-                reason: format!("{} channels, lmax {}", self.channels, self.lmax),
-            });
+            return Err(Error::invalid(
+                "PSH index",
+                format!("channel {channel}, l {l}"),
+                format!("{} channels, lmax {}", self.channels, self.lmax),
+            ));
         }
         Ok(())
     }
@@ -349,11 +343,11 @@ impl PshVector {
     /// means what [`Self::argument`] says.
     pub fn evaluate(&self, c: usize, w: [f64; 3]) -> Result<StokesVector> {
         if c >= self.channels {
-            return Err(Error::InvalidArgument {
-                name: "channel",
-                value: c.to_string(),
-                reason: format!("{} channels", self.channels),
-            });
+            return Err(Error::invalid(
+                "channel",
+                c.to_string(),
+                format!("{} channels", self.channels),
+            ));
         }
         Ok(self.evaluate_all(w)?.swap_remove(c))
     }

@@ -16,11 +16,11 @@ impl DirectionalLight {
     pub fn new(direction: [f64; 3], irradiance: [f64; 3]) -> Result<Self> {
         crate::geometry::check_direction(direction)?;
         if let Some(e) = irradiance.iter().find(|e| !(e.is_finite() && **e >= 0.0)) {
-            return Err(Error::InvalidArgument {
-                name: "light irradiance",
-                value: e.to_string(),
-                reason: "finite and non-negative".into(),
-            });
+            return Err(Error::invalid(
+                "light irradiance",
+                e.to_string(),
+                "finite and non-negative",
+            ));
         }
         Ok(Self {
             direction,

@@ -33,11 +33,11 @@ impl Blocks {
     fn new(mats: &[PshMatrix; 3]) -> Result<Self> {
         let lmax = mats[0].lmax();
         if let Some(m) = mats.iter().find(|m| m.lmax() != lmax) {
-            return Err(Error::InvalidArgument {
-                name: "material matrices",
-                value: format!("band limits {} and {}", lmax, m.lmax()),
-                reason: "the three channels share one band limit".into(),
-            });
+            return Err(Error::invalid(
+                "material matrices",
+                format!("band limits {} and {}", lmax, m.lmax()),
+                "the three channels share one band limit",
+            ));
         }
         let n = num_coeffs(lmax);
         let channels = std::array::from_fn(|c| {
@@ -134,14 +134,14 @@ impl Lobe {
             Lobe::Conductor(m) => AtPoint::Conductor(m),
             Lobe::Matrices(m) => {
                 if basis.lmax() < m.lmax {
-                    return Err(Error::InvalidArgument {
-                        name: "workspace",
-                        value: format!("basis band limit {}", basis.lmax()),
-                        reason: format!(
+                    return Err(Error::invalid(
+                        "workspace",
+                        format!("basis band limit {}", basis.lmax()),
+                        format!(
                             "the material's matrices need {} (a workspace of this reference)",
                             m.lmax
                         ),
-                    });
+                    ));
                 }
                 let (yr, y2) = basis.basis(wo)?;
                 let k = Contracted::new(m, yr, y2);
@@ -205,10 +205,12 @@ impl Contracted {
 
 /// The lobe of material `material` among `lobes`. Error: a material out of range.
 pub(crate) fn material_lobe(lobes: &[Lobe], material: usize) -> Result<&Lobe> {
-    lobes.get(material).ok_or_else(|| Error::InvalidArgument {
-        name: "material",
-        value: material.to_string(),
-        reason: format!("{} materials", lobes.len()),
+    lobes.get(material).ok_or_else(|| {
+        Error::invalid(
+            "material",
+            material.to_string(),
+            format!("{} materials", lobes.len()),
+        )
     })
 }
 

@@ -40,11 +40,8 @@ impl Mesh {
         normals: Option<Vec<[f64; 3]>>,
         triangles: Vec<[u32; 3]>,
     ) -> Result<Self> {
-        let bad = |name: &'static str, value: String, reason: &str| Error::InvalidArgument {
-            name,
-            value,
-            reason: reason.into(),
-        };
+        let bad =
+            |name: &'static str, value: String, reason: &str| Error::invalid(name, value, reason);
         if let Some(i) = positions
             .iter()
             .position(|p| p.iter().any(|x| !x.is_finite()))
@@ -112,11 +109,11 @@ impl Mesh {
     /// A UV sphere of `rings` x `segments` quads (poles closed by triangles).
     pub fn sphere(center: [f64; 3], radius: f64, rings: usize, segments: usize) -> Result<Self> {
         if !(radius.is_finite() && radius > 0.0) || rings < 2 || segments < 3 {
-            return Err(Error::InvalidArgument {
-                name: "sphere",
-                value: format!("radius {radius}, {rings} rings, {segments} segments"),
-                reason: "radius > 0, at least 2 rings and 3 segments".into(),
-            });
+            return Err(Error::invalid(
+                "sphere",
+                format!("radius {radius}, {rings} rings, {segments} segments"),
+                "radius > 0, at least 2 rings and 3 segments",
+            ));
         }
         let mut positions = vec![[center[0], center[1], center[2] + radius]];
         let mut normals = vec![[0.0, 0.0, 1.0]];
@@ -159,11 +156,11 @@ impl Mesh {
             || rings < 3
             || segments < 3
         {
-            return Err(Error::InvalidArgument {
-                name: "torus",
-                value: format!("radii {major} and {minor}, {rings} rings, {segments} segments"),
-                reason: "major > minor > 0, at least 3 rings and 3 segments".into(),
-            });
+            return Err(Error::invalid(
+                "torus",
+                format!("radii {major} and {minor}, {rings} rings, {segments} segments"),
+                "major > minor > 0, at least 3 rings and 3 segments",
+            ));
         }
         let mut positions = Vec::with_capacity(rings * segments);
         let mut normals = Vec::with_capacity(rings * segments);
@@ -194,11 +191,11 @@ impl Mesh {
     /// `n x n` quads.
     pub fn plane(center: [f64; 3], half: f64, n: usize) -> Result<Self> {
         if !(half.is_finite() && half > 0.0) || n == 0 {
-            return Err(Error::InvalidArgument {
-                name: "plane",
-                value: format!("half-size {half}, {n} quads"),
-                reason: "half-size > 0 and at least one quad".into(),
-            });
+            return Err(Error::invalid(
+                "plane",
+                format!("half-size {half}, {n} quads"),
+                "half-size > 0 and at least one quad",
+            ));
         }
         let mut positions = Vec::new();
         for j in 0..=n {
@@ -237,11 +234,7 @@ impl Mesh {
             positions.len(),
             triangles.len()
         );
-        let bad = |reason: String| Error::InvalidArgument {
-            name: "mesh",
-            value: value.clone(),
-            reason,
-        };
+        let bad = |reason: String| Error::invalid("mesh", value.clone(), reason);
         if let Some(k) = triangles
             .iter()
             .position(|t| t.iter().any(|&i| i as usize >= positions.len()))

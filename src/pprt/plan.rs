@@ -243,11 +243,11 @@ impl Plan {
     ) -> Result<Plan> {
         if let Planning::Tolerance(tolerance) = planning {
             if !(tolerance > 0.0 && tolerance < 1.0) {
-                return Err(Error::InvalidArgument {
-                    name: "plan tolerance",
-                    value: tolerance.to_string(),
-                    reason: "in (0, 1)".into(),
-                });
+                return Err(Error::invalid(
+                    "plan tolerance",
+                    tolerance.to_string(),
+                    "in (0, 1)",
+                ));
             }
         }
         Self::build(scene, settings, planning, progress)

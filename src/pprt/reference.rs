@@ -47,8 +47,9 @@ pub enum Fidelity {
     BandLimited(usize),
 }
 
-/// Settings of the reference.
+/// Settings of the reference ([`ReferenceSettings::new`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct ReferenceSettings {
     /// Directions per shading point.
     pub samples: usize,
@@ -56,6 +57,17 @@ pub struct ReferenceSettings {
     pub fidelity: Fidelity,
     /// Seeds the per-point shifts of the sequence.
     pub seed: u64,
+}
+
+impl ReferenceSettings {
+    /// `samples` directions per shading point of `fidelity`, the sequence seeded by `seed`.
+    pub const fn new(samples: usize, fidelity: Fidelity, seed: u64) -> Self {
+        Self {
+            samples,
+            fidelity,
+            seed,
+        }
+    }
 }
 
 /// Per-thread evaluators: the environment's coefficients and the materials' bases.
@@ -80,11 +92,11 @@ impl<'a> Reference<'a> {
     /// [`Fidelity::BandLimited`]) one the materials cannot be projected at.
     pub fn new(scene: &'a Scene, settings: ReferenceSettings) -> Result<Self> {
         if settings.samples == 0 {
-            return Err(Error::InvalidArgument {
-                name: "reference samples",
-                value: "0".into(),
-                reason: "at least one direction per shading point".into(),
-            });
+            return Err(Error::invalid(
+                "reference samples",
+                "0",
+                "at least one direction per shading point",
+            ));
         }
         let lobes = scene
             .materials()
@@ -244,11 +256,11 @@ impl<'a> Reference<'a> {
     /// centres. Error: `grid` 0 or above [`MAX_PIXEL_GRID`].
     pub fn render_antialiased(&self, grid: usize) -> Result<StokesImage> {
         if !(1..=MAX_PIXEL_GRID).contains(&grid) {
-            return Err(Error::InvalidArgument {
-                name: "pixel grid",
-                value: grid.to_string(),
-                reason: format!("positions per pixel side in 1..={MAX_PIXEL_GRID}"),
-            });
+            return Err(Error::invalid(
+                "pixel grid",
+                grid.to_string(),
+                format!("positions per pixel side in 1..={MAX_PIXEL_GRID}"),
+            ));
         }
         let cam = self.scene.camera();
         let positions = grid * grid;
@@ -287,10 +299,12 @@ impl<'a> Reference<'a> {
             .map_init(
                 || self.workspace(),
                 |ws, k| {
-                    let ws = ws.as_mut().map_err(|e| Error::InvalidArgument {
-                        name: "reference evaluators",
-                        value: e.to_string(),
-                        reason: "band limits the SH tables accept".into(),
+                    let ws = ws.as_mut().map_err(|e| {
+                        Error::invalid(
+                            "reference evaluators",
+                            e.to_string(),
+                            "band limits the SH tables accept",
+                        )
                     })?;
                     pixel(ws, k)
                 },
@@ -333,11 +347,11 @@ impl<'a> Reference<'a> {
 pub const MAX_PIXEL_GRID: usize = 32;
 
 fn vertex_error(object: usize, vertex: usize) -> Error {
-    Error::InvalidArgument {
-        name: "vertex",
-        value: format!("object {object}, vertex {vertex}"),
-        reason: "not in the scene".into(),
-    }
+    Error::invalid(
+        "vertex",
+        format!("object {object}, vertex {vertex}"),
+        "not in the scene",
+    )
 }
 
 /// A direction in the shading frame and its density under the mixture, or `None` when

@@ -59,14 +59,13 @@ impl StokesImage {
     /// finite.
     pub fn through_polarizer(&self, c: usize, angle: f64) -> Result<Vec<f64>> {
         let angle = crate::error::finite("polarizer angle", angle)?;
-        let channel = self
-            .channels
-            .get(c)
-            .ok_or_else(|| crate::Error::InvalidArgument {
-                name: "channel",
-                value: c.to_string(),
-                reason: format!("{} channels", self.channels.len()),
-            })?;
+        let channel = self.channels.get(c).ok_or_else(|| {
+            crate::Error::invalid(
+                "channel",
+                c.to_string(),
+                format!("{} channels", self.channels.len()),
+            )
+        })?;
         let (c2, s2) = ((2.0 * angle).cos(), (2.0 * angle).sin());
         Ok(channel
             .iter()
@@ -218,10 +217,12 @@ fn seen_vertices(scene: &Scene, hits: &[Option<Hit>]) -> Result<Vec<Vec<bool>>> 
             .objects()
             .get(h.object)
             .and_then(|o| o.mesh.triangles().get(h.triangle))
-            .ok_or_else(|| crate::error::Error::InvalidArgument {
-                name: "primary hit",
-                value: format!("object {}, triangle {}", h.object, h.triangle),
-                reason: "not a triangle of this scene".into(),
+            .ok_or_else(|| {
+                crate::error::Error::invalid(
+                    "primary hit",
+                    format!("object {}, triangle {}", h.object, h.triangle),
+                    "not a triangle of this scene",
+                )
             })?;
         for &i in triangle {
             seen[h.object][i as usize] = true;

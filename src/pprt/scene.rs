@@ -110,12 +110,11 @@ impl Camera {
     ) -> Result<Self> {
         let f = Vector3::from(target) - Vector3::from(position);
         if f.norm() == 0.0 || width == 0 || height == 0 || !(fov_y > 0.0 && fov_y < 3.0) {
-            return Err(Error::InvalidArgument {
-                name: "camera",
-                value: format!("{position:?} -> {target:?}, fov {fov_y}, {width} x {height}"),
-                reason: "distinct position and target, fov in (0, 3) radians, non-empty image"
-                    .into(),
-            });
+            return Err(Error::invalid(
+                "camera",
+                format!("{position:?} -> {target:?}, fov {fov_y}, {width} x {height}"),
+                "distinct position and target, fov in (0, 3) radians, non-empty image",
+            ));
         }
         crate::budget::check("the rendered image", &[width, height], Self::PIXEL_BYTES)?;
         let f = f.normalize();
@@ -341,18 +340,18 @@ impl Scene {
             .enumerate()
             .find(|(_, o)| o.material >= materials.len())
         {
-            return Err(Error::InvalidArgument {
-                name: "object material",
-                value: format!("object {k}: material {}", o.material),
-                reason: format!("{} materials", materials.len()),
-            });
+            return Err(Error::invalid(
+                "object material",
+                format!("object {k}: material {}", o.material),
+                format!("{} materials", materials.len()),
+            ));
         }
         if environment.channels() != 3 {
-            return Err(Error::InvalidArgument {
-                name: "environment",
-                value: format!("{} channels", environment.channels()),
-                reason: "RGB (3 channels)".into(),
-            });
+            return Err(Error::invalid(
+                "environment",
+                format!("{} channels", environment.channels()),
+                "RGB (3 channels)",
+            ));
         }
         FieldArgument::TowardsSource.expect(
             environment.argument(),
@@ -415,14 +414,14 @@ impl Scene {
     pub fn with_source(mut self, source: EnvironmentSource) -> Result<Self> {
         if let EnvironmentSource::Coefficients(v) = &source {
             if v.channels() != 3 || v.lmax() < self.environment.lmax() {
-                return Err(Error::InvalidArgument {
-                    name: "environment source",
-                    value: format!("{} channels, lmax {}", v.channels(), v.lmax()),
-                    reason: format!(
+                return Err(Error::invalid(
+                    "environment source",
+                    format!("{} channels, lmax {}", v.channels(), v.lmax()),
+                    format!(
                         "3 channels and lmax >= the environment's {}",
                         self.environment.lmax()
                     ),
-                });
+                ));
             }
         }
         self.source = source;
@@ -450,11 +449,11 @@ impl Scene {
     /// that is not the analytic sky.
     pub fn with_sun(mut self, sun: Sun) -> Result<Self> {
         let EnvironmentSource::Sky(sky) = &self.source else {
-            return Err(Error::InvalidArgument {
-                name: "sun",
-                value: sun.name().into(),
-                reason: "a scene under the analytic sky (its source is coefficients)".into(),
-            });
+            return Err(Error::invalid(
+                "sun",
+                sun.name(),
+                "a scene under the analytic sky (its source is coefficients)",
+            ));
         };
         let sky = sky.clone().with_sun(sun);
         self.environment = sky.project(self.environment.lmax())?.windowed(self.window);

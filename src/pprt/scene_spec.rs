@@ -111,11 +111,11 @@ pub enum EnvironmentSpec {
 /// radiance negative or not finite.
 fn constant_environment(radiance: [f64; 3], lmax: usize) -> Result<PshVector> {
     if let Some(r) = radiance.iter().find(|r| !(r.is_finite() && **r >= 0.0)) {
-        return Err(Error::InvalidArgument {
-            name: "constant radiance",
-            value: r.to_string(),
-            reason: "finite and non-negative".into(),
-        });
+        return Err(Error::invalid(
+            "constant radiance",
+            r.to_string(),
+            "finite and non-negative",
+        ));
     }
     let n = crate::sh::num_coeffs(lmax) * 4;
     let mut data = vec![0.0; 3 * n];
@@ -348,10 +348,7 @@ impl SceneSpec {
     /// [`TransferSettings::environment_lmax`]), reading the files it names through `files`;
     /// with its transfer settings. Errors name `files.origin()` and the field.
     pub fn build(&self, lmax: usize, files: &dyn SceneFiles) -> Result<(Scene, TransferSettings)> {
-        let malformed = |reason: String| Error::MalformedFile {
-            path: files.origin().to_path_buf(),
-            reason,
-        };
+        let malformed = |reason: String| Error::malformed(files.origin().to_path_buf(), reason);
         let field = |name: &str, e: Error| malformed(format!("{name}: {e}"));
         let settings = self.settings.transfer();
         let lmax = lmax.max(settings.environment_lmax());

@@ -15,8 +15,10 @@ pub enum Visibility {
     Off,
 }
 
-/// Settings of the precomputation.
+/// Settings of the precomputation ([`TransferSettings::new`], or [`Default`] and its
+/// fields).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct TransferSettings {
     /// Band limit of the transfer (`l <= l_low`).
     pub l_low: usize,
@@ -51,6 +53,21 @@ pub const MAX_L_LOW: usize = 20;
 pub const MAX_L_HIGH: usize = 24;
 
 impl TransferSettings {
+    /// The settings of these band limits, rays and visibility.
+    pub const fn new(
+        l_low: usize,
+        l_high: Option<usize>,
+        rays: usize,
+        visibility: Visibility,
+    ) -> Self {
+        Self {
+            l_low,
+            l_high,
+            rays,
+            visibility,
+        }
+    }
+
     /// Errors: `l_low` outside `2..=MAX_L_LOW`, `l_high` below `l_low` or above
     /// [`MAX_L_HIGH`], no rays with ray-cast visibility. Cheap: run it before any
     /// projection.
@@ -60,18 +77,18 @@ impl TransferSettings {
             || (self.visibility == Visibility::Rays && self.rays == 0)
             || self.l_high.is_some_and(|h| !(l..=MAX_L_HIGH).contains(&h))
         {
-            return Err(Error::InvalidArgument {
-                name: "transfer settings",
-                value: format!(
+            return Err(Error::invalid(
+                "transfer settings",
+                format!(
                     "l_low {l}, l_high {}, {} rays",
                     high_orders_number(self.l_high),
                     self.rays
                 ),
-                reason: format!(
+                format!(
                     "2 <= l_low <= {MAX_L_LOW}, l_low <= l_high <= {MAX_L_HIGH} (or l_high 0: \
                      no high orders), and rays > 0 with shadows"
                 ),
-            });
+            ));
         }
         Ok(())
     }

@@ -58,11 +58,11 @@ impl RayleighSky {
         if !(elevation.is_finite() && azimuth.is_finite())
             || elevation.abs() > std::f64::consts::FRAC_PI_2
         {
-            return Err(Error::InvalidArgument {
-                name: "sun direction",
-                value: format!("elevation {elevation}, azimuth {azimuth}"),
-                reason: "finite angles, elevation in [-pi/2, pi/2]".into(),
-            });
+            return Err(Error::invalid(
+                "sun direction",
+                format!("elevation {elevation}, azimuth {azimuth}"),
+                "finite angles, elevation in [-pi/2, pi/2]",
+            ));
         }
         let (ce, se) = (elevation.cos(), elevation.sin());
         Ok(Self {

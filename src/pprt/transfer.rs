@@ -75,11 +75,7 @@ pub fn ray_visibility(
     rays: &VisibilityRays,
 ) -> Result<PshVector> {
     if rays.dirs.is_empty() {
-        return Err(Error::InvalidArgument {
-            name: "visibility rays",
-            value: "0".into(),
-            reason: "at least one ray".into(),
-        });
+        return Err(Error::invalid("visibility rays", "0", "at least one ray"));
     }
     let nv = num_coeffs(rays.lv);
     let origin = scene.shadow_origin(p, n);

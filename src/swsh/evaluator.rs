@@ -20,13 +20,13 @@ impl SpinEvaluator {
     pub fn new(spin: i64, lmax: usize) -> Result<Self> {
         crate::sh::check_lmax(lmax)?;
         if spin == 0 || spin.unsigned_abs() as usize > lmax {
-            return Err(Error::InvalidArgument {
-                name: "spin",
-                value: spin.to_string(),
-                reason: format!(
+            return Err(Error::invalid(
+                "spin",
+                spin.to_string(),
+                format!(
                     "the spin recursion needs 1 <= |spin| <= lmax = {lmax} (spin 0: scalar SH)"
                 ),
-            });
+            ));
         }
         Ok(Self {
             columns: Arc::new(Columns::new(spin, lmax)),

@@ -39,11 +39,11 @@ pub const MAX_SPIN: i64 = 64;
 /// zeros where `l < |s|` (PSH (26)-(27) for `s = 2`).
 pub fn swsh(spin: i64, lmax: usize, theta: f64, phi: f64) -> Result<Vec<Complex64>> {
     if spin.unsigned_abs() > MAX_SPIN as u64 {
-        return Err(Error::InvalidArgument {
-            name: "spin",
-            value: spin.to_string(),
-            reason: format!("|spin| must be at most {MAX_SPIN}"),
-        });
+        return Err(Error::invalid(
+            "spin",
+            spin.to_string(),
+            format!("|spin| must be at most {MAX_SPIN}"),
+        ));
     }
     check_lmax(lmax)?;
     check_theta(theta)?;

@@ -16,10 +16,7 @@ const GAUNT: &str = include_str!("../../tests/fixtures/gaunt.json");
 const SH_HESSIAN: &str = include_str!("../../tests/fixtures/sh_hessian.json");
 
 fn malformed(name: &str, reason: impl Into<String>) -> Error {
-    Error::MalformedFile {
-        path: format!("tests/fixtures/{name}").into(),
-        reason: reason.into(),
-    }
+    Error::malformed(format!("tests/fixtures/{name}"), reason)
 }
 
 fn parse(name: &str, text: &str) -> Result<Value> {

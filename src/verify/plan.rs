@@ -99,11 +99,11 @@ fn vertex_difference(scene: &Scene, planned: &Plan, full: &Plan) -> Result<f64> 
 }
 
 fn wrong_plan(what: &str, plan: &Plan) -> Error {
-    Error::InvalidArgument {
-        name: "plan",
-        value: format!("{:?}, {:?}", plan.codomain, plan.visibility),
-        reason: format!("expected {what}"),
-    }
+    Error::invalid(
+        "plan",
+        format!("{:?}, {:?}", plan.codomain, plan.visibility),
+        format!("expected {what}"),
+    )
 }
 
 /// `vertex_difference` of the unpolarized built-in scene, planned at `1e-3` and full,

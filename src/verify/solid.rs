@@ -161,10 +161,10 @@ fn euler() -> Result<f64> {
 fn table1() -> Result<f64> {
     let rows = super::oracle::sh_hessian_table1()?;
     if rows.is_empty() {
-        return Err(crate::error::Error::MalformedFile {
-            path: "tests/fixtures/sh_hessian.json".into(),
-            reason: "no bands".into(),
-        });
+        return Err(crate::error::Error::malformed(
+            "tests/fixtures/sh_hessian.json",
+            "no bands",
+        ));
     }
     Ok(rows.iter().map(|r| r.1).fold(0.0, f64::max))
 }

@@ -162,11 +162,7 @@ fn a_one_position_pixel_grid_is_the_centre_render() {
         height: 12,
         ..cam
     });
-    let settings = ReferenceSettings {
-        samples: 8,
-        fidelity: Fidelity::Exact,
-        seed: 3,
-    };
+    let settings = ReferenceSettings::new(8, Fidelity::Exact, 3);
     let r = Reference::new(&scene, settings).unwrap();
     let centre = r.render(&primary_hits(&scene)).unwrap();
     assert_eq!(r.render_antialiased(1).unwrap(), centre);

@@ -9,12 +9,12 @@ use psh::pprt::Visibility;
 use psh::verify::{tangent_plane_vs_rays, unpolarized_vs_full};
 
 fn settings(l_low: usize, l_high: usize, rays: usize) -> TransferSettings {
-    TransferSettings {
+    TransferSettings::new(
         l_low,
-        l_high: psh::pprt::high_orders_from_number(l_high),
+        psh::pprt::high_orders_from_number(l_high),
         rays,
-        visibility: psh::pprt::Visibility::Rays,
-    }
+        psh::pprt::Visibility::Rays,
+    )
 }
 
 /// Unpolarized light on depolarizing materials: scalar SH, isotropic storage, rays kept
@@ -123,7 +123,7 @@ fn scene_files_plan_as_documented() {
     let (scene, s) = load_scene(format!("{dir}/scenes/diffuse.toml"), 0).unwrap();
     let plan = Plan::new(
         &scene,
-        TransferSettings { rays: 8, ..s },
+        TransferSettings::new(s.l_low, s.l_high, 8, s.visibility),
         psh::pprt::Planning::Tolerance(1e-3),
     )
     .unwrap();

@@ -16,16 +16,16 @@ use psh::stokes::MuellerField;
 fn check(shadows: bool) {
     let l = 3;
     let scene = builtin_scene(l, 8, 6).unwrap();
-    let settings = TransferSettings {
-        l_low: l,
-        l_high: None,
-        rays: 64,
-        visibility: if shadows {
+    let settings = TransferSettings::new(
+        l,
+        None,
+        64,
+        if shadows {
             Visibility::Rays
         } else {
             Visibility::Off
         },
-    };
+    );
     let transfer = precompute(&scene, settings).unwrap();
     let env = scene.environment();
     let grid = PshTransform::new(4 * l).unwrap();
@@ -299,12 +299,7 @@ fn rotating_everything_together_leaves_the_image_unchanged() {
         },
     )
     .unwrap();
-    let settings = TransferSettings {
-        l_low: l,
-        l_high: None,
-        rays: 1,
-        visibility: psh::pprt::Visibility::Off,
-    };
+    let settings = TransferSettings::new(l, None, 1, psh::pprt::Visibility::Off);
     let render = |s: &Scene| {
         let t = precompute(s, settings).unwrap();
         let hits = primary_hits(s);
@@ -446,11 +441,7 @@ fn the_valid_range_projection_brings_pixels_closer_to_the_reference() {
     let raw = render_frame(&scene, &transfer, &plan.high_fields(), &hits, &direct).unwrap();
     let mut valid = raw.clone();
     valid.to_nearest_physical().unwrap();
-    let settings = ReferenceSettings {
-        samples: 64,
-        fidelity: Fidelity::Exact,
-        seed: 1,
-    };
+    let settings = ReferenceSettings::new(64, Fidelity::Exact, 1);
     let truth = Reference::new(&scene, settings)
         .unwrap()
         .render(&hits)
@@ -491,12 +482,7 @@ fn camera_roll_turns_s1_s2_as_psh_14() {
     use psh::pprt::high_order_fields;
     use psh::pprt::vertex_stokes;
     let mut scene = builtin_scene(6, 16, 16).unwrap();
-    let settings = TransferSettings {
-        l_low: 4,
-        l_high: Some(6),
-        rays: 64,
-        visibility: psh::pprt::Visibility::Rays,
-    };
+    let settings = TransferSettings::new(4, Some(6), 64, psh::pprt::Visibility::Rays);
     let transfer = precompute(&scene, settings).unwrap();
     let high = high_order_fields(&scene, settings).unwrap();
     let cam = scene.camera().clone();
@@ -543,12 +529,7 @@ fn ablation_writes_three_variants_side_by_side() {
     use psh::apps::render_job::ablation_job;
     let dir = std::env::temp_dir().join(format!("psh-ablation-{}", std::process::id()));
     let scene = builtin_scene(5, 30, 20).unwrap();
-    let settings = TransferSettings {
-        l_low: 3,
-        l_high: Some(5),
-        rays: 32,
-        visibility: psh::pprt::Visibility::Rays,
-    };
+    let settings = TransferSettings::new(3, Some(5), 32, psh::pprt::Visibility::Rays);
     let report = ablation_job(&scene, settings, &[45.0], &dir, &psh::progress::Silent).unwrap();
     let names: Vec<_> = report
         .variants
@@ -577,10 +558,12 @@ fn ablation_writes_three_variants_side_by_side() {
     assert!(info.info().height > 20 + 60);
     let e = ablation_job(
         &scene,
-        TransferSettings {
-            visibility: psh::pprt::Visibility::Off,
-            ..settings
-        },
+        TransferSettings::new(
+            settings.l_low,
+            settings.l_high,
+            settings.rays,
+            psh::pprt::Visibility::Off,
+        ),
         &[],
         &dir,
         &psh::progress::Silent,
@@ -597,12 +580,7 @@ fn mismatched_runtime_inputs_are_errors() {
     use psh::pprt::{direct_light, primary_hits, render_frame, vertex_stokes};
     use psh::pprt::{Fidelity, Reference, ReferenceSettings};
     let scene = builtin_scene(3, 8, 6).unwrap();
-    let settings = TransferSettings {
-        l_low: 3,
-        l_high: None,
-        rays: 1,
-        visibility: psh::pprt::Visibility::Off,
-    };
+    let settings = TransferSettings::new(3, None, 1, psh::pprt::Visibility::Off);
     let transfer = precompute(&scene, settings).unwrap();
     let none = vec![None; scene.materials().len()];
     let e = vertex_stokes(&scene, &transfer[..2], &none).unwrap_err();
@@ -622,11 +600,7 @@ fn mismatched_runtime_inputs_are_errors() {
     );
     let r = Reference::new(
         &scene,
-        ReferenceSettings {
-            samples: 4,
-            fidelity: Fidelity::BandLimited(3),
-            seed: 1,
-        },
+        ReferenceSettings::new(4, Fidelity::BandLimited(3), 1),
     )
     .unwrap();
     let e = r.render(&hits[..10]).unwrap_err();
@@ -641,15 +615,7 @@ fn mismatched_runtime_inputs_are_errors() {
         .outgoing(&mut ws, 0, [f64::NAN; 3], [0.0, 0.0, 1.0], &out, 0)
         .unwrap_err();
     assert!(e.to_string().contains("shading point"), "{e}");
-    let exact = Reference::new(
-        &scene,
-        ReferenceSettings {
-            samples: 4,
-            fidelity: Fidelity::Exact,
-            seed: 1,
-        },
-    )
-    .unwrap();
+    let exact = Reference::new(&scene, ReferenceSettings::new(4, Fidelity::Exact, 1)).unwrap();
     let mut small = exact.workspace().unwrap();
     let e = r
         .outgoing(&mut small, 0, [0.0; 3], [0.0, 0.0, 1.0], &out, 0)
@@ -738,12 +704,7 @@ fn shadow_rays_see_an_occluder_close_above_the_surface() {
 fn a_frame_reads_only_the_vertices_it_sees_on_any_thread_count() {
     use psh::pprt::{direct_light, high_order_fields, primary_hits, render_frame, vertex_stokes};
     let scene = builtin_scene(6, 40, 30).unwrap();
-    let settings = TransferSettings {
-        l_low: 3,
-        l_high: Some(6),
-        rays: 32,
-        visibility: psh::pprt::Visibility::Rays,
-    };
+    let settings = TransferSettings::new(3, Some(6), 32, psh::pprt::Visibility::Rays);
     let transfer = precompute(&scene, settings).unwrap();
     let high = high_order_fields(&scene, settings).unwrap();
     let hits = primary_hits(&scene);

@@ -87,12 +87,7 @@ fn bench_error_takes_an_outside_ground_truth() {
     let dir = std::env::temp_dir().join(format!("psh-outside-truth-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let scene = builtin_scene(3, 20, 15).unwrap();
-    let settings = psh::pprt::TransferSettings {
-        l_low: 3,
-        l_high: None,
-        rays: 16,
-        visibility: psh::pprt::Visibility::Rays,
-    };
+    let settings = psh::pprt::TransferSettings::new(3, None, 16, psh::pprt::Visibility::Rays);
     let plan = Plan::new(&scene, settings, psh::pprt::Planning::Full).unwrap();
     let transfer = precompute_planned(&scene, &plan, &psh::progress::Silent).unwrap();
     let hits = primary_hits(&scene);

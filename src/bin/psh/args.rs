@@ -77,10 +77,12 @@ pub fn parse_degrees(x: &str) -> psh::Result<f64> {
         .parse::<f64>()
         .ok()
         .filter(|v| v.is_finite())
-        .ok_or_else(|| Error::InvalidArgument {
-            name: "angle in degrees",
-            value: x.to_string(),
-            reason: "a finite number (comma-separated where several)".into(),
+        .ok_or_else(|| {
+            Error::invalid(
+                "angle in degrees",
+                x.to_string(),
+                "a finite number (comma-separated where several)",
+            )
         })
 }
 
@@ -90,18 +92,22 @@ pub fn parse_spp(x: &str) -> psh::Result<usize> {
         .parse::<usize>()
         .ok()
         .filter(|&n| n > 0)
-        .ok_or_else(|| Error::InvalidArgument {
-            name: "sample count",
-            value: x.to_string(),
-            reason: "a positive number of samples (--spp: comma-separated)".into(),
+        .ok_or_else(|| {
+            Error::invalid(
+                "sample count",
+                x.to_string(),
+                "a positive number of samples (--spp: comma-separated)",
+            )
         })
 }
 
 /// A report as JSON.
 pub fn to_json(report: &impl serde::Serialize) -> psh::Result<serde_json::Value> {
-    serde_json::to_value(report).map_err(|e| Error::InvalidArgument {
-        name: "JSON report",
-        value: e.to_string(),
-        reason: "a report serializable as JSON".into(),
+    serde_json::to_value(report).map_err(|e| {
+        Error::invalid(
+            "JSON report",
+            e.to_string(),
+            "a report serializable as JSON",
+        )
     })
 }

@@ -112,11 +112,11 @@ fn parse_equirect(size: &str) -> psh::Result<EquirectSize> {
     let hw: Option<Vec<usize>> = size.split(',').map(|x| x.trim().parse().ok()).collect();
     match hw.as_deref() {
         Some(&[h, w]) if h > 0 && w == 2 * h => Ok(EquirectSize(h, w)),
-        _ => Err(Error::InvalidArgument {
-            name: "--equirect",
-            value: size.to_string(),
-            reason: "expected H,W with W = 2H (rows, columns)".into(),
-        }),
+        _ => Err(Error::invalid(
+            "--equirect",
+            size.to_string(),
+            "expected H,W with W = 2H (rows, columns)",
+        )),
     }
 }
 
@@ -211,13 +211,15 @@ pub fn apply(a: &ApplyArgs) -> psh::Result<serde_json::Value> {
     writing(&[a.matrix.clone(), a.input.clone()], &a.output, || {
         let m = psh::io::read_isotropic_npz(&a.matrix)?;
         let v = psh::io::read_psh_npz(&a.input)?;
-        let cut = v.truncated(m.lmax()).map_err(|e| Error::MalformedFile {
-            path: a.input.clone(),
-            reason: format!(
-                "the matrix {} needs l <= {}: {e}",
-                a.matrix.display(),
-                m.lmax()
-            ),
+        let cut = v.truncated(m.lmax()).map_err(|e| {
+            Error::malformed(
+                a.input.clone(),
+                format!(
+                    "the matrix {} needs l <= {}: {e}",
+                    a.matrix.display(),
+                    m.lmax()
+                ),
+            )
         })?;
         let out = m.apply(&cut)?;
         psh::io::write_psh_npz(&a.output, &out)?;

@@ -48,11 +48,7 @@ pub struct PolygonalLight {
 }
 
 fn invalid(value: String, reason: String) -> Error {
-    Error::InvalidArgument {
-        name: "polygon",
-        value,
-        reason,
-    }
+    Error::invalid("polygon", value, reason)
 }
 
 fn sub(u: [f64; 3], v: [f64; 3]) -> [f64; 3] {
@@ -158,14 +154,14 @@ impl PolygonalLight {
         let offset = dot(self.normal, rel[0].0);
         let scale = self.size.max(norm(rel[0].0));
         if offset.abs() <= GEOMETRY_TOLERANCE * scale {
-            return Err(Error::InvalidArgument {
-                name: "shading point",
-                value: format!("{x:?}"),
-                reason: format!(
+            return Err(Error::invalid(
+                "shading point",
+                format!("{x:?}"),
+                format!(
                     "on the plane of the polygonal light {:?} (offset {offset:e})",
                     self.vertices
                 ),
-            });
+            ));
         }
         Ok(match horizon {
             Some(n) => clip_to_horizon(&rel, n),
@@ -254,13 +250,11 @@ impl PolygonalLights {
     /// [`Order::Hessians`] is an error.
     pub fn field(&self, x: [f64; 3], order: Order) -> Result<LightField> {
         if order == Order::Hessians {
-            return Err(Error::InvalidArgument {
-                name: "order",
-                value: "Hessians".into(),
-                reason:
-                    "Hessians of polygonal lights are not derived (coefficients and gradients only)"
-                        .into(),
-            });
+            return Err(Error::invalid(
+                "order",
+                "Hessians",
+                "Hessians of polygonal lights are not derived (coefficients and gradients only)",
+            ));
         }
         let grads = order == Order::Gradients;
         let f = &self.factorization;

@@ -96,11 +96,11 @@ fn integrate(triangles: &[Anchored], len: usize, tol: f64, f: &Integrand) -> Res
             .unwrap_or(0);
         let p = pieces.swap_remove(worst);
         if p.depth >= MAX_DEPTH {
-            return Err(Error::InvalidArgument {
-                name: "tolerance",
-                value: tol.to_string(),
-                reason: format!("reference quadrature not converged (error estimate {total:e})"),
-            });
+            return Err(Error::invalid(
+                "tolerance",
+                tol.to_string(),
+                format!("reference quadrature not converged (error estimate {total:e})"),
+            ));
         }
         for q in quarters(&p.triangle) {
             let whole = estimate(&q)?;

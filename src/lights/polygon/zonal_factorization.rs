@@ -110,13 +110,11 @@ impl ZonalFactorization {
                 .try_inverse()
                 .filter(|_| cond < CONDITION_LIMIT);
             let Some(alpha) = inv else {
-                return Err(Error::InvalidArgument {
-                    name: "lmax",
-                    value: lmax.to_string(),
-                    reason: format!(
-                        "no well-conditioned zonal lobes for band {l} (condition {cond:e})"
-                    ),
-                });
+                return Err(Error::invalid(
+                    "lmax",
+                    lmax.to_string(),
+                    format!("no well-conditioned zonal lobes for band {l} (condition {cond:e})"),
+                ));
             };
             // alpha is (2l+1) x (2l+1) with rows m and columns j: store row-major.
             let alpha = (0..=2 * l)

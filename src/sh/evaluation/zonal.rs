@@ -78,11 +78,11 @@ pub fn zonal_coefficients(kernel: impl Fn(f64) -> f64, lmax: usize) -> Result<Zo
         coeffs[l] = total;
     }
     if let Some(t) = bad.get() {
-        return Err(Error::InvalidArgument {
-            name: "kernel",
-            value: format!("k({t}) non-finite"),
-            reason: "a zonal kernel must be finite on [0, pi]".into(),
-        });
+        return Err(Error::invalid(
+            "kernel",
+            format!("k({t}) non-finite"),
+            "a zonal kernel must be finite on [0, pi]",
+        ));
     }
     Ok(ZonalCoefficients {
         coeffs,

@@ -195,11 +195,11 @@ impl SphereGrid {
         let j = i / self.n_phi.max(1);
         match self.rings.theta.get(j) {
             Some(&t) => Ok((t, self.phi(i % self.n_phi.max(1)))),
-            None => Err(Error::InvalidArgument {
-                name: "grid point",
-                value: i.to_string(),
-                reason: format!("the grid has {} points", self.len()),
-            }),
+            None => Err(Error::invalid(
+                "grid point",
+                i.to_string(),
+                format!("the grid has {} points", self.len()),
+            )),
         }
     }
 

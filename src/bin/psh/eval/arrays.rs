@@ -122,11 +122,11 @@ fn pairs_flat(v: &[Complex64]) -> impl Iterator<Item = f64> + '_ {
 /// Errors when `count` values exceed [`MAX_EVAL_VALUES`].
 fn check_output_size(name: &'static str, count: usize) -> psh::Result<()> {
     if count > MAX_EVAL_VALUES {
-        return Err(Error::InvalidArgument {
+        return Err(Error::invalid(
             name,
-            value: count.to_string(),
-            reason: format!("at most {MAX_EVAL_VALUES} output values"),
-        });
+            count.to_string(),
+            format!("at most {MAX_EVAL_VALUES} output values"),
+        ));
     }
     Ok(())
 }
@@ -176,13 +176,13 @@ pub fn swsh_points(a: &SwshPointsArgs) -> psh::Result<serde_json::Value> {
     check_output_size("number of points", count.saturating_mul(n))?;
     let work = count as u128 * (a.lmax as u128 + 1).pow(3);
     if work > MAX_SWSH_POINTS_WORK {
-        return Err(Error::InvalidArgument {
-            name: "points x (lmax+1)^3",
-            value: work.to_string(),
-            reason: format!(
+        return Err(Error::invalid(
+            "points x (lmax+1)^3",
+            work.to_string(),
+            format!(
                 "psh eval swsh-points evaluates at most {MAX_SWSH_POINTS_WORK} (about a minute)"
             ),
-        });
+        ));
     }
     let mut out = Vec::with_capacity(count * n);
     for p in points.chunks_exact(2) {

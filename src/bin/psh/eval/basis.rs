@@ -135,15 +135,15 @@ pub fn grid(a: &GridArgs) -> psh::Result<serde_json::Value> {
     // At most the rings of the largest band limit; checked before the O(n^2) Newton
     // iterations.
     if a.n > MAX_DEGREE + 1 {
-        return Err(Error::InvalidArgument {
-            name: "n",
-            value: a.n.to_string(),
-            reason: format!(
+        return Err(Error::invalid(
+            "n",
+            a.n.to_string(),
+            format!(
                 "at most {} rings (the grid of band limit {})",
                 MAX_DEGREE + 1,
                 MAX_DEGREE
             ),
-        });
+        ));
     }
     let g = psh::sh::GaussLegendre::new(a.n)?;
     Ok(json!({"n": a.n, "theta": g.theta, "weights": g.weights}))

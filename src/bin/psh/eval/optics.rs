@@ -97,10 +97,12 @@ pub fn microfacet(a: &MicrofacetArgs) -> psh::Result<serde_json::Value> {
     let model = psh::optics::MicrofacetSpecular::new(a.alpha, ComplexIor::new(a.n, a.k)?)?
         .with_masking(a.masking);
     let three = |name, v: &[f64]| -> psh::Result<[f64; 3]> {
-        v.try_into().map_err(|_| Error::InvalidArgument {
-            name,
-            value: format!("{v:?}"),
-            reason: "three comma-separated numbers X,Y,Z".into(),
+        v.try_into().map_err(|_| {
+            Error::invalid(
+                name,
+                format!("{v:?}"),
+                "three comma-separated numbers X,Y,Z",
+            )
         })
     };
     let t = model.transform(three("--wi", &a.wi)?, three("--wo", &a.wo)?)?;
