@@ -30,15 +30,14 @@ impl ComplexIor {
     /// [`MAX_IOR`](crate::optics::MAX_IOR),
     /// or `n = k = 0`.
     pub fn new(n: f64, k: f64) -> Result<Self> {
-        let bad = |name: &'static str, value: f64, reason: &str| Error::InvalidArgument {
-            name,
+        let bad = |name: &'static str, value: f64, reason: &str| {
             // Exponent form for huge values (1e300 has 301 digits in full).
-            value: if value.abs() >= 1e6 {
+            let text = if value.abs() >= 1e6 {
                 format!("{value:e}")
             } else {
                 format!("{value}")
-            },
-            reason: reason.to_string(),
+            };
+            Error::invalid(name, text, reason)
         };
         if !n.is_finite() || n < 0.0 {
             return Err(bad(
