@@ -9,10 +9,10 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use nalgebra::Vector3;
 use psh::geometry::direction_angles;
+use psh::pprt::stages::{direct_light, primary_hits, render_frame};
+use psh::pprt::stages::{precompute_planned, ray_visibility, VisibilityRays};
 use psh::pprt::Plan;
 use psh::pprt::TransferSettings;
-use psh::pprt::{direct_light, primary_hits, render_frame};
-use psh::pprt::{precompute_planned, ray_visibility, VisibilityRays};
 use psh::pprt::{Hit, Scene};
 use psh::sh::num_coeffs;
 use psh::sh::RealWignerD;

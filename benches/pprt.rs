@@ -3,10 +3,10 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use psh::io::{data_dir, load_scene};
-use psh::pprt::precompute_planned;
+use psh::pprt::stages::precompute_planned;
+use psh::pprt::stages::{direct_light, primary_hits, render_frame};
 use psh::pprt::Plan;
 use psh::pprt::TransferSettings;
-use psh::pprt::{direct_light, primary_hits, render_frame};
 
 fn pprt(c: &mut Criterion) {
     if !data_dir().join("polarsh/buddha.obj").exists() {

@@ -159,7 +159,7 @@ mod imp {
                                 continue;
                             }
                             if wigner_3j_exact(u(l1), m1, u(l2), m2, u(l3), m3)?.is_zero() {
-                                if found % 4 == 0 {
+                                if found.is_multiple_of(4) {
                                     w3j.insert(([l1, l2, l3], [m1, m2, m3]));
                                 }
                                 found += 1;

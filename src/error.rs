@@ -129,6 +129,13 @@ pub enum Error {
         budget: u64,
     },
 
+    /// The caller asked the computation to stop ([`crate::progress::Progress::cancelled`]).
+    #[error("{what} was interrupted")]
+    Interrupted {
+        /// The computation.
+        what: String,
+    },
+
     /// An I/O failure on a named file.
     #[error("I/O error on {}: {source}", path.display())]
     Io {

@@ -29,7 +29,7 @@ impl MapLayout {
     pub fn from_image_size(height: usize, width: usize) -> Result<Self> {
         if height > 0 && width == 2 * height {
             Ok(Self::Equirect(Equirect::new(height, width)?))
-        } else if height > 0 && height % 3 == 0 && 3 * width == 4 * height {
+        } else if height > 0 && height.is_multiple_of(3) && 3 * width == 4 * height {
             Ok(Self::CubeCross(CubeCross::new(height / 3)?))
         } else {
             Err(Error::invalid(

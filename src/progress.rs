@@ -12,6 +12,18 @@ pub trait Progress: Sync {
     fn advance(&self, n: u64);
     /// The stage is over.
     fn finish(&self) {}
+    /// Whether the caller asks the computation to stop (Ctrl-C in Python, say). Long
+    /// stages ask between units and then end with [`crate::Error::Interrupted`].
+    fn cancelled(&self) -> bool {
+        false
+    }
+    /// [`crate::Error::Interrupted`] naming `what` when [`Progress::cancelled`].
+    fn check_cancelled(&self, what: &str) -> crate::Result<()> {
+        if self.cancelled() {
+            return Err(crate::Error::Interrupted { what: what.into() });
+        }
+        Ok(())
+    }
 }
 
 /// Reports nothing.

@@ -11,8 +11,8 @@ use std::path::{Path, PathBuf};
 /// The layers, bottom to top; modules on one line are siblings and import neither each
 /// other nor anything above.
 const LAYERS: &[&[&str]] = &[
-    &["error", "random", "progress"],
-    &["budget", "names"],
+    &["error", "random"],
+    &["budget", "names", "progress"],
     &["geometry"],
     &["sh"],
     &["swsh"],

@@ -8,10 +8,18 @@ use numpy::{IntoPyArray, PyArrayDyn, PyReadonlyArrayDyn};
 use pyo3::prelude::*;
 
 /// `obj` as a read-only C-contiguous float64 array (numpy.ascontiguousarray: no copy for
-/// an array that already is one).
+/// an array that already is one). Error: complex values (numpy would drop their
+/// imaginary parts with only a warning).
 pub fn f64_array<'py>(obj: &Bound<'py, PyAny>) -> PyResult<PyReadonlyArrayDyn<'py, f64>> {
     let py = obj.py();
     let np = py.import("numpy")?;
+    if np.call_method1("iscomplexobj", (obj,))?.is_truthy()? {
+        return Err(bad(
+            "array",
+            "complex values; psh takes real arrays (complex values as [re, im] pairs where a \
+             function takes them)",
+        ));
+    }
     let kwargs = pyo3::types::PyDict::new(py);
     kwargs.set_item("dtype", np.getattr("float64")?)?;
     let a = np.call_method("ascontiguousarray", (obj,), Some(&kwargs))?;

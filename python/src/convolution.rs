@@ -35,16 +35,46 @@ fn value_array<'py>(py: Python<'py>, k: &KernelValue) -> PyResult<Bound<'py, PyA
 /// input to the output direction (PSH (61)).
 #[pyclass(module = "psh", frozen)]
 pub struct ConvolutionKernel {
-    kernel: psh::polarized::ConvolutionKernel,
-    /// The first exception a Python callable raised (or its bad return value).
-    raised: Arc<Mutex<Option<PyErr>>>,
+    source: Source,
+}
+
+/// Where a kernel's values come from.
+enum Source {
+    /// A table or a built-in kernel.
+    Native(psh::polarized::ConvolutionKernel),
+    /// A Python callable, wrapped anew for each call so that what it raises belongs to
+    /// that call alone (two threads using one kernel each see their own exception).
+    Callable(Py<PyAny>),
 }
 
 impl ConvolutionKernel {
     fn wrap(kernel: psh::polarized::ConvolutionKernel) -> Self {
         Self {
-            kernel,
-            raised: Arc::default(),
+            source: Source::Native(kernel),
+        }
+    }
+
+    /// Runs `body` with the kernel; a callable's first exception (or bad return value)
+    /// during this call is raised instead of the result.
+    fn with_kernel<T>(
+        &self,
+        body: impl FnOnce(&psh::polarized::ConvolutionKernel) -> T,
+    ) -> PyResult<T> {
+        match &self.source {
+            Source::Native(k) => Ok(body(k)),
+            Source::Callable(f) => {
+                let raised: Arc<Mutex<Option<PyErr>>> = Arc::default();
+                let slot = raised.clone();
+                let f = Python::attach(|py| f.clone_ref(py));
+                let kernel =
+                    psh::polarized::ConvolutionKernel::from_fn(move |t| call_kernel(&f, t, &slot));
+                let out = body(&kernel);
+                let first = raised.lock().unwrap_or_else(|p| p.into_inner()).take();
+                match first {
+                    Some(e) => Err(e),
+                    None => Ok(out),
+                }
+            }
         }
     }
 }
@@ -94,10 +124,9 @@ impl ConvolutionKernel {
     /// raises (or a value of another shape) is raised again by `coefficients`.
     #[staticmethod]
     fn from_callable(f: Py<PyAny>) -> Self {
-        let raised: Arc<Mutex<Option<PyErr>>> = Arc::default();
-        let slot = raised.clone();
-        let kernel = psh::polarized::ConvolutionKernel::from_fn(move |t| call_kernel(&f, t, &slot));
-        Self { kernel, raised }
+        Self {
+            source: Source::Callable(f),
+        }
     }
 
     /// The built-in kernel `linear-zenith` of `psh convolve`.
@@ -114,27 +143,15 @@ impl ConvolutionKernel {
 
     /// `k(theta)` as a `(4, 4)` array.
     fn value<'py>(&self, py: Python<'py>, theta: f64) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-        let k = self.kernel.value(theta);
-        self.reraise()?;
+        let k = self.with_kernel(|k| k.value(theta))?;
         value_array(py, &k.py_err()?)
     }
 
     /// The convolution coefficients `G_l`, `l <= lmax` (PSH (68a)-(68e), composite
     /// Gauss-Legendre quadrature in theta).
     fn coefficients(&self, py: Python<'_>, lmax: usize) -> PyResult<KernelCoefficients> {
-        let g = py.detach(|| psh::polarized::kernel_coefficients(&self.kernel, lmax));
-        self.reraise()?;
+        let g = py.detach(|| self.with_kernel(|k| psh::polarized::kernel_coefficients(k, lmax)))?;
         Ok(KernelCoefficients { g: g.py_err()? })
-    }
-}
-
-impl ConvolutionKernel {
-    /// Raises (once) what a Python callable raised.
-    fn reraise(&self) -> PyResult<()> {
-        match self.raised.lock().unwrap_or_else(|p| p.into_inner()).take() {
-            Some(e) => Err(e),
-            None => Ok(()),
-        }
     }
 }
 

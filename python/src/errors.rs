@@ -1,8 +1,9 @@
 //! psh's errors as Python exceptions, with psh's message: `OSError` for files
 //! (unreadable, malformed, missing shared data), `MemoryError` for work over the memory
-//! budget (`psh::budget`), `ValueError` for every other bad value.
+//! budget (`psh::budget`), `KeyboardInterrupt` for interrupted work, `ValueError` for
+//! every other bad value.
 
-use pyo3::exceptions::{PyMemoryError, PyOSError, PyValueError};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyMemoryError, PyOSError, PyValueError};
 use pyo3::PyErr;
 
 /// The Python exception of a psh error.
@@ -12,6 +13,7 @@ pub fn to_py(e: psh::Error) -> PyErr {
         | psh::Error::MalformedFile { .. }
         | psh::Error::DataMissing { .. } => PyOSError::new_err(e.to_string()),
         psh::Error::MemoryBudget { .. } => PyMemoryError::new_err(e.to_string()),
+        psh::Error::Interrupted { .. } => PyKeyboardInterrupt::new_err(e.to_string()),
         _ => PyValueError::new_err(e.to_string()),
     }
 }

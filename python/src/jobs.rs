@@ -73,9 +73,8 @@ fn render<'py>(
     };
     job.polarizers_deg = polarizers;
     job.out = out;
-    let (report, image) = py
-        .detach(|| job.load()?.run(&psh::progress::Silent))
-        .py_err()?;
+    let (report, image) =
+        crate::interrupt::interruptible(py, |progress| job.load()?.run(progress))?;
     let image = image.ok_or_else(|| crate::errors::bad("render", "the job rendered no image"))?;
     let data: Vec<f64> = image.channels.iter().flatten().flatten().copied().collect();
     let stokes = owned(
@@ -93,6 +92,12 @@ fn render<'py>(
 #[pyo3(signature = (filter = None))]
 fn verify<'py>(py: Python<'py>, filter: Option<String>) -> PyResult<Bound<'py, PyAny>> {
     let results = py.detach(|| psh::verify::run(filter.as_deref()));
+    if let (true, Some(f)) = (results.is_empty(), &filter) {
+        return Err(crate::errors::bad(
+            "verify filter",
+            format!("{f:?}: no check id contains it (psh.verify() runs them all)"),
+        ));
+    }
     to_python(py, &results)
 }
 

@@ -7,6 +7,7 @@ mod arrays;
 mod convolution;
 mod errors;
 mod harmonics;
+mod interrupt;
 mod jobs;
 mod maps;
 mod pbrdf;

@@ -274,10 +274,9 @@ impl IsotropicMatrix {
 /// its order.
 #[pyfunction]
 fn isotropic_pairs(lmax: usize) -> PyResult<Vec<(usize, usize)>> {
-    checked_len(
-        "isotropic pairs",
-        &[lmax.saturating_add(1), lmax.saturating_add(1)],
-    )?;
+    // Each pair a tuple of two Python ints: about 96 bytes (12 words).
+    let count = psh::polarized::isotropic_pair_count(lmax).unwrap_or(usize::MAX);
+    checked_len("isotropic pairs", &[count, 12])?;
     Ok(psh::polarized::isotropic_pairs(lmax))
 }
 

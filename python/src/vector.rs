@@ -283,7 +283,7 @@ impl PshVector {
     /// The energy of each degree `E_l = sum_{c,m,p} f_lmp^2` (Parseval: the squared L2
     /// norm of band `l`).
     fn band_energies<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-        let e = self.v.band_energies();
+        let e = self.v.band_energies().py_err()?;
         owned(py, &[e.len()], e)
     }
 

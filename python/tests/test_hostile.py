@@ -8,6 +8,9 @@ import pytest
 import psh
 
 V = psh.PshVector(np.zeros((1, 9, 4)))
+BIG = psh.PshVector(np.full((1, 9, 1), 1e308), "SCALAR")
+BIG4 = psh.PshVector(np.full((1, 25, 1), 1e308), "SCALAR")
+DENSE = psh.project_pbrdf(psh.PolarizedPlastic(0.3, 1.5, 0.5), 2)
 
 CASES = [
     (lambda: psh.sh_real(3, [[np.nan, 0, 1]]), ValueError, "finite|unit"),
@@ -61,6 +64,17 @@ CASES = [
     (lambda: psh.PshMatrix.from_data(np.zeros((9, 8, 4, 4))), ValueError, "shape"),
     (lambda: psh.render(scene="/nonexistent/scene.toml"), OSError, "nonexistent"),
     (lambda: psh.render(width=10**6, height=10**6), MemoryError, "memory budget"),
+    # Hardening III: the true pair count (about 4/3 l^3), the projection's fields, results
+    # beyond f64 named, typos and NaN settings refused, complex values not truncated.
+    (lambda: psh.isotropic_pairs(10000), MemoryError, "memory budget"),
+    (lambda: psh.project_pbrdf(psh.PolarizedPlastic(0.3, 1.5, 0.5), 100), MemoryError, "memory budget"),
+    (lambda: BIG.band_energies(), ValueError, "band energy"),
+    (lambda: psh.TripleTable(2, 4).shadow(BIG, BIG4), ValueError, "triple product"),
+    (lambda: psh.verify("typo"), ValueError, "typo"),
+    (lambda: psh.IsotropicMatrix.from_dense(DENSE, np.nan), ValueError, "tolerance"),
+    (lambda: psh.render(out=""), ValueError, "output directory"),
+    (lambda: psh.render(polarizers=[1e308]), ValueError, "polarizer angle"),
+    (lambda: psh.sh_real(2, np.array([[0, 0, 1 + 1j]])), ValueError, "complex"),
 ]
 
 
@@ -80,3 +94,49 @@ def test_arrays_of_any_layout_are_read_correctly():
     # A strided view (rows 0, 2, 4 of [d; d]: d0, d2, d1) is copied to contiguous first.
     assert np.array_equal(psh.sh_real(4, np.vstack([d, d])[::2]), ref[[0, 2, 1]])
     assert psh.sh_real(4, np.zeros((0, 3))).shape == (0, 25)
+
+
+def test_callable_exceptions_stay_with_their_call():
+    """Eight threads using one failing callable kernel at once: each call raises the
+    callable's own exception (none is taken by another call, none returns values)."""
+    import threading
+
+    def k(theta):
+        raise RuntimeError("the kernel failed")
+
+    kernel = psh.ConvolutionKernel.from_callable(k)
+    outcome = []
+
+    def run():
+        try:
+            kernel.coefficients(6)
+            outcome.append("returned")
+        except RuntimeError as e:
+            outcome.append(str(e))
+        except Exception as e:  # noqa: BLE001 - the test reports what else was raised
+            outcome.append(type(e).__name__)
+
+    threads = [threading.Thread(target=run) for _ in range(8)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert outcome == ["the kernel failed"] * 8
+
+
+def test_ctrl_c_interrupts_a_render(tmp_path):
+    """SIGINT during psh.render is a KeyboardInterrupt, raised as itself within seconds."""
+    import os
+    import signal
+    import threading
+    import time
+
+    timer = threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        psh.render(out=str(tmp_path), width=64, height=48, rays=4096, tolerance=None)
+    timer.join()
+    assert time.monotonic() - start < 60
+    # The module still works.
+    assert psh.isotropic_pairs(1)

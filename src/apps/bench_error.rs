@@ -19,12 +19,12 @@ use crate::pprt::settings::{Planning, TransferSettings, Visibility};
 use crate::pprt::transfer::precompute_planned;
 use crate::progress::Progress;
 use serde::Serialize;
-use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
 /// What to run.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct BenchErrorOptions {
     /// PPRT at band limits `2..=l_max`.
     pub l_max: usize,
@@ -37,6 +37,31 @@ pub struct BenchErrorOptions {
     /// An outside ground truth instead of psh's reference (Mitsuba 3's render read by
     /// [`crate::io::read_stokes_image`], made an image by [`ground_truth_image`]).
     pub ground_truth: Option<StokesImage>,
+}
+
+impl BenchErrorOptions {
+    /// The default largest band limit of the PPRT rows.
+    pub const L_MAX: usize = 9;
+    /// The default visibility rays per vertex.
+    pub const RAYS: usize = 256;
+    /// The default sample counts of the reference rows.
+    pub const SPP: [usize; 5] = [1, 4, 16, 64, 256];
+    /// The default samples per pixel of the ground truth.
+    pub const GROUND_TRUTH_SPP: usize = 2048;
+}
+
+impl Default for BenchErrorOptions {
+    /// [`Self::L_MAX`], [`Self::RAYS`], [`Self::SPP`], [`Self::GROUND_TRUTH_SPP`], psh's
+    /// reference as the ground truth.
+    fn default() -> Self {
+        BenchErrorOptions {
+            l_max: Self::L_MAX,
+            rays: Self::RAYS,
+            spp: Self::SPP.to_vec(),
+            ground_truth_spp: Self::GROUND_TRUTH_SPP,
+            ground_truth: None,
+        }
+    }
 }
 
 /// An outside render of `scene` (`(width, height, [channel][pixel] components)` in the
@@ -152,7 +177,9 @@ fn pprt_settings(setting: &str, l: usize, rays: usize) -> TransferSettings {
     }
 }
 
-/// RMSE per Stokes component of `a` against `truth` over the surface pixels.
+/// RMSE per Stokes component of `a` against `truth` over the surface pixels. Errors:
+/// other sizes; an error beyond the range of `f64` (a ground truth of values near
+/// `1e154` or larger), named rather than reported as infinity.
 pub fn rmse(a: &StokesImage, truth: &StokesImage) -> Result<[f64; 4]> {
     if (a.width, a.height) != (truth.width, truth.height) {
         return Err(Error::invalid(
@@ -174,16 +201,18 @@ pub fn rmse(a: &StokesImage, truth: &StokesImage) -> Result<[f64; 4]> {
         }
     }
     let n = count.max(1) as f64;
-    Ok(sq.map(|s| (s / n).sqrt()))
+    let e = sq.map(|s| (s / n).sqrt());
+    crate::error::finite_all("RMSE against the ground truth", &e)?;
+    Ok(e)
 }
 
 /// Runs the benchmark on `scene` and writes `bench-error.json`, `bench-error.csv`,
 /// `bench-error.png` (log10 total RMSE against log10 seconds per frame: PPRT `full` red,
 /// `no_shadow` orange, `low_only` purple, the reference blue; grid lines every decade)
 /// and `fig19.png` (log10 RMSE of `s0..s3`, black, red, green, blue, against `l` for
-/// PPRT `full`; grid every band and every decade) into `out`. Returns the JSON. The CSV
-/// fills a row at a time as `bench-error.partial.csv` (renamed at the end); `progress`
-/// counts the ground truth and the rows.
+/// PPRT `full`; grid every band and every decade) into `out`, the four together at the
+/// end ([`crate::io::all_or_nothing`]: a failing run leaves an earlier run's as they
+/// were). Returns the JSON. `progress` counts the ground truth and the rows.
 pub fn bench_error(
     scene: &Scene,
     options: &BenchErrorOptions,
@@ -195,10 +224,7 @@ pub fn bench_error(
         path: out.to_path_buf(),
         source: e,
     })?;
-    // The rows as they come, in bench-error.partial.csv (renamed to bench-error.csv at the
-    // end, so that a failing run leaves an earlier CSV as it was).
-    let partial = out.join("bench-error.partial.csv");
-    let mut csv = Csv::create(&partial)?;
+    crate::io::check_output(out.join("bench-error.json"))?;
     let rows_total = 3 * (options.l_max - 1) + options.spp.len() + 1;
     progress.start(
         "bench-error: ground truth, then rows",
@@ -229,7 +255,6 @@ pub fn bench_error(
     progress.advance(1);
     let mut rows = Vec::new();
     let mut push = |row: Row| -> Result<()> {
-        csv.row(&row)?;
         rows.push(row);
         progress.advance(1);
         Ok(())
@@ -287,7 +312,7 @@ pub fn bench_error(
         rows,
         speedup_at_equal_rmse: speedup,
     };
-    write_report(&report, &partial, out, options.l_max)?;
+    crate::io::all_or_nothing(&[], || write_report(&report, out, options.l_max))?;
     Ok(report)
 }
 
@@ -303,6 +328,10 @@ impl BenchErrorOptions {
                     scene.environment().lmax()
                 ),
             ));
+        }
+        // Every count before any work: the ground truth renders first.
+        for &spp in self.spp.iter().chain([&self.ground_truth_spp]) {
+            crate::pprt::check_samples(spp)?;
         }
         Ok(())
     }
@@ -336,19 +365,16 @@ fn pprt_row(
     })
 }
 
-/// `bench-error.json`, the CSV of the rows (`partial` renamed: written row by row) and
-/// the plots `bench-error.png` and `fig19.png` into `out`.
-fn write_report(report: &BenchErrorReport, partial: &Path, out: &Path, l_max: usize) -> Result<()> {
+/// `bench-error.json`, `bench-error.csv` and the plots `bench-error.png` and `fig19.png`
+/// into `out`.
+fn write_report(report: &BenchErrorReport, out: &Path, l_max: usize) -> Result<()> {
     write_text(
         out.join("bench-error.json"),
         &serde_json::to_value(report)
             .and_then(|v| serde_json::to_string_pretty(&v))
             .map_err(|e| Error::invalid("report", "bench-error.json", e.to_string()))?,
     )?;
-    std::fs::rename(partial, out.join("bench-error.csv")).map_err(|e| Error::Io {
-        path: partial.to_path_buf(),
-        source: e,
-    })?;
+    write_text(out.join("bench-error.csv"), &csv_text(&report.rows))?;
     plot_error_time(&report.rows, &out.join("bench-error.png"))?;
     plot_fig19(&report.rows, l_max, &out.join("fig19.png"))
 }
@@ -370,33 +396,16 @@ fn median_frame(frame: impl Fn() -> Result<StokesImage>) -> Result<(StokesImage,
     Ok((image.expect("PPRT_FRAMES > 0"), times[PPRT_FRAMES / 2]))
 }
 
-/// `bench-error.csv` written a row at a time.
-struct Csv {
-    path: std::path::PathBuf,
-    file: std::fs::File,
-}
-
-impl Csv {
-    fn create(path: &Path) -> Result<Self> {
-        let io = |e| Error::Io {
-            path: path.to_path_buf(),
-            source: e,
-        };
-        let mut file = std::fs::File::create(path).map_err(io)?;
-        file.write_all(
-            b"method,setting,l_max,spp,precompute_s,frame_s,rmse_s0,rmse_s1,rmse_s2,rmse_s3\n",
-        )
-        .map_err(io)?;
-        Ok(Self {
-            path: path.to_path_buf(),
-            file,
-        })
-    }
-
-    fn row(&mut self, r: &Row) -> Result<()> {
-        let opt = |x: Option<usize>| x.map_or(String::new(), |v| v.to_string());
-        writeln!(
-            self.file,
+/// The rows as `bench-error.csv`.
+fn csv_text(rows: &[Row]) -> String {
+    use std::fmt::Write;
+    let opt = |x: Option<usize>| x.map_or(String::new(), |v| v.to_string());
+    let mut text = String::from(
+        "method,setting,l_max,spp,precompute_s,frame_s,rmse_s0,rmse_s1,rmse_s2,rmse_s3\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            text,
             "{},{},{},{},{:.6},{:.6},{:.6e},{:.6e},{:.6e},{:.6e}",
             r.method,
             r.setting,
@@ -408,13 +417,9 @@ impl Csv {
             r.rmse[1],
             r.rmse[2],
             r.rmse[3]
-        )
-        .and_then(|()| self.file.flush())
-        .map_err(|e| Error::Io {
-            path: self.path.clone(),
-            source: e,
-        })
+        );
     }
+    text
 }
 
 /// The reference's frame time at PPRT `full`'s total RMSE at `l_max`, by log-log

@@ -48,10 +48,12 @@ pub enum JobReport {
 }
 
 impl RenderJob {
-    /// The job's scene and settings ([`RenderJob::settings`], checked first, then
+    /// The job's scene and settings ([`RenderJob::check_outputs`] and
+    /// [`RenderJob::settings`], checked first, then
     /// [`SceneSetup::load`](super::render_settings::SceneSetup::load) at the settings'
     /// band limit).
     pub fn load(&self) -> Result<LoadedJob<'_>> {
+        self.check_outputs()?;
         let settings = self.settings()?;
         let (scene, name) = self.scene.load(settings.environment_lmax())?;
         Ok(LoadedJob {
@@ -96,7 +98,7 @@ impl LoadedJob<'_> {
 
 /// Renders `scene` with `settings` into `out` (created), planned as `planning` says
 /// ([`Plan::new`]): `render_s{0..3}.exr` (components
-/// in the camera's frames, [`crate::pprt::render_frame`]), `render_{s0,s1,s2,s3,dop,aop}.png`,
+/// in the camera's frames, [`crate::pprt::stages::render_frame`]), `render_{s0,s1,s2,s3,dop,aop}.png`,
 /// `polarizer_{deg}.png` for each angle in `polarizers` (degrees from image-right towards
 /// image-up) and `report.json` (with the plan and the pixels that break PSH (70),
 /// counted before any projection), reporting the precomputation to `progress`. With

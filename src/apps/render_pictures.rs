@@ -9,7 +9,7 @@ use crate::io::{tick_label, Legend};
 use crate::pprt::render::StokesImage;
 use std::path::{Path, PathBuf};
 
-/// The legends of a render's pictures (the frames of [`crate::pprt::render_frame`]).
+/// The legends of a render's pictures (the frames of [`crate::pprt::stages::render_frame`]).
 pub(crate) const CAMERA_NOTES: PictureNotes = PictureNotes {
     title: "",
     frames: "camera frames (x right, y up)",

@@ -175,6 +175,37 @@ impl RenderJob {
     pub const POLARIZERS_DEG: [f64; 4] = [0.0, 45.0, 90.0, 135.0];
     /// The default output directory.
     pub const OUT: &'static str = "psh-out";
+    /// The largest polarizer angle in magnitude, in degrees (two turns of the axis, whose
+    /// angle counts modulo 180).
+    pub const MAX_POLARIZER_DEG: f64 = 360.0;
+
+    /// Checks what the job writes before any work: polarizer angles finite and within
+    /// [`Self::MAX_POLARIZER_DEG`] (each names a picture), an output path that is not
+    /// empty. Errors name the value.
+    pub fn check_outputs(&self) -> Result<()> {
+        if let Some(bad) = self
+            .polarizers_deg
+            .iter()
+            .find(|d| d.is_nan() || d.abs() > Self::MAX_POLARIZER_DEG)
+        {
+            return Err(crate::Error::invalid(
+                "polarizer angle",
+                format!("{bad:?} degrees"),
+                format!(
+                    "a finite angle in [-{0}, {0}] degrees",
+                    Self::MAX_POLARIZER_DEG
+                ),
+            ));
+        }
+        if self.out.as_os_str().is_empty() {
+            return Err(crate::Error::invalid(
+                "output directory",
+                "\"\"",
+                "a directory path (\".\" for the working directory)",
+            ));
+        }
+        Ok(())
+    }
 }
 
 impl Default for RenderJob {

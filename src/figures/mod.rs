@@ -35,6 +35,7 @@ use std::time::Instant;
 
 /// How a figure is computed.
 #[derive(Clone, Debug, Default)]
+#[non_exhaustive]
 pub struct FigureOptions {
     /// Smaller sizes (every figure, then, in under a minute on 2 vCPUs).
     pub quick: bool,

@@ -141,7 +141,7 @@ impl CubeCross {
 
     /// The cross layout of an image of `height x width`, which must be `3e x 4e`.
     pub fn from_image_size(height: usize, width: usize) -> Result<Self> {
-        if height == 0 || height % 3 != 0 || width * 3 != height * 4 {
+        if height == 0 || !height.is_multiple_of(3) || width * 3 != height * 4 {
             return Err(Error::invalid(
                 "cube cross size",
                 format!("{height} x {width}"),

@@ -55,11 +55,19 @@ fn read_channels(path: &Path, missing: &str) -> Result<Component> {
             std::io::Error::new(std::io::ErrorKind::NotFound, missing.to_string()),
         ));
     }
+    super::input::open_input(path)?;
     // The header's sizes are input: checked against the budget before any pixel is read
     // (a 284 KB file may claim 120000 x 90000 texels).
     let meta = exr::meta::MetaData::read_from_file(path, false)
         .map_err(|e| malformed(path, e.to_string()))?;
     for h in &meta.headers {
+        if h.channels
+            .list
+            .iter()
+            .any(|c| c.name.to_string().is_empty())
+        {
+            return Err(malformed(path, "a channel has an empty name"));
+        }
         crate::budget::check(
             &format!("the pixels of {}", path.display()),
             &[

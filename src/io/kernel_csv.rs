@@ -4,7 +4,7 @@
 //! increasing from 0 to pi; linear interpolation between samples. Blank lines and lines
 //! starting with `#` are skipped, and so is a first line that is not numeric (a header).
 
-use super::{io_error, malformed};
+use super::malformed;
 use crate::error::{clip, Result};
 use crate::polarized::{ConvolutionKernel, KernelValue};
 use std::path::Path;
@@ -14,7 +14,7 @@ use std::path::Path;
 /// increasing or not covering `[0, pi]`, non-finite values.
 pub fn read_kernel_csv(path: impl AsRef<Path>) -> Result<ConvolutionKernel> {
     let path = path.as_ref();
-    let text = std::fs::read_to_string(path).map_err(|e| io_error(path, e))?;
+    let text = super::input::read_input_text(path)?;
     let (mut theta, mut values) = (Vec::new(), Vec::<KernelValue>::new());
     let mut first = true;
     for (i, line) in text.lines().enumerate() {

@@ -15,10 +15,12 @@
 //! sibling renamed over the target once complete; writers refuse non-finite values.
 
 pub(crate) mod exr;
+pub(crate) mod input;
 pub(crate) mod kernel_csv;
 pub(crate) mod legend;
 #[cfg(feature = "render")]
 pub(crate) mod mitsuba;
+pub(crate) mod npy_header;
 pub(crate) mod npz;
 #[cfg(feature = "render")]
 pub(crate) mod obj;
@@ -42,7 +44,9 @@ pub use npz::{
 };
 #[cfg(feature = "render")]
 pub use obj::read_obj;
-pub use output::{all_or_nothing, refuse_input, write_file, write_text};
+pub use output::{
+    all_or_nothing, check_output, refuse_input, remove_partial_outputs, write_file, write_text,
+};
 pub use png::{
     diverging, srgb8, write_map_pngs, write_matrix_png, write_png, write_png_with_legend,
     write_stokes_pngs, PictureNotes, UNPHYSICAL,

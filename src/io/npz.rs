@@ -16,7 +16,7 @@
 //! [`IsotropicMatrix::with_input`]), so a file read back, by psh or polarsh, holds the
 //! same field.
 
-use super::{io_error, malformed};
+use super::{io_error, malformed, npy_header};
 use crate::error::{Error, Result};
 use crate::polarized::{
     isotropic_lmax, isotropic_pairs, Codomain, FieldArgument, IsotropicMatrix, PshVector,
@@ -43,7 +43,7 @@ impl<'a> Archive<'a> {
     /// Opens `path`. Errors: unreadable, not an npz, an entry whose CRC-32 does not match
     /// its data, a key not in `keys`.
     fn open(path: &'a Path, keys: &[&str]) -> Result<Self> {
-        verify_checksums(path)?;
+        check_entries(path)?;
         let npz = NpzArchive::open(path).map_err(|e| match e.kind() {
             std::io::ErrorKind::NotFound => io_error(path, e),
             _ => malformed(path, format!("not an npz archive: {e}")),
@@ -128,20 +128,50 @@ impl<'a> Archive<'a> {
     }
 }
 
-/// Reads every entry of the zip archive at `path` to its end, where the zip reader
-/// compares the CRC-32 of the data with the stored one. Error: a mismatch or a corrupt
-/// archive, naming the entry.
-fn verify_checksums(path: &Path) -> Result<()> {
-    let file = File::open(path).map_err(|e| io_error(path, e))?;
+/// Checks every entry of the zip archive at `path` (a regular file) before `npyz` reads
+/// it: its declared size within the memory budget, its `.npy` header
+/// ([`npy_header::parse`], linear in its length) announcing no more data than the entry
+/// holds, no more data than declared (inflation stops one byte past the declared size),
+/// and the CRC-32 of the data, which the zip reader compares at the entry's end. Error:
+/// the first entry that fails, named.
+fn check_entries(path: &Path) -> Result<()> {
+    use std::io::Read;
+    let (file, _) = super::input::open_input(path)?;
     let mut zip = npyz::zip::ZipArchive::new(BufReader::new(file))
         .map_err(|e| malformed(path, format!("not an npz archive: {e}")))?;
     for i in 0..zip.len() {
-        let mut entry = zip
+        let entry = zip
             .by_index(i)
             .map_err(|e| malformed(path, format!("zip entry {i}: {e}")))?;
         let name = crate::error::clip(entry.name());
-        std::io::copy(&mut entry, &mut std::io::sink())
-            .map_err(|e| malformed(path, format!("zip entry '{name}': {e}")))?;
+        let bad = |reason: String| malformed(path, format!("zip entry '{name}': {reason}"));
+        let size = entry.size();
+        crate::budget::check(
+            &format!("zip entry '{name}' of {}", path.display()),
+            &[usize::try_from(size).unwrap_or(usize::MAX)],
+            1,
+        )?;
+        let mut data = entry.take(size.saturating_add(1));
+        let mut head = Vec::new();
+        let mut read_to = |head: &mut Vec<u8>, n: usize| {
+            let more = n.saturating_sub(head.len()) as u64;
+            (&mut data)
+                .take(more)
+                .read_to_end(head)
+                .map_err(|e| bad(e.to_string()))
+        };
+        read_to(&mut head, 12)?;
+        let total = npy_header::header_length(&head).map_err(bad)?;
+        read_to(&mut head, total)?;
+        let header = npy_header::parse(&head).map_err(bad)?;
+        header
+            .check_fits(size.saturating_sub(total as u64))
+            .map_err(bad)?;
+        let rest =
+            std::io::copy(&mut data, &mut std::io::sink()).map_err(|e| bad(e.to_string()))?;
+        if head.len() as u64 + rest > size {
+            return Err(bad(format!("more data than the {size} bytes declared")));
+        }
     }
     Ok(())
 }
@@ -324,11 +354,12 @@ pub fn write_npy(
 /// A float64 `.npy` file in C order (the layout [`write_npy`] writes): its shape and data.
 pub fn read_npy(path: impl AsRef<Path>) -> Result<(Vec<u64>, Vec<f64>)> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let bytes = super::input::read_input(path)?;
     let bad = |reason: String| Error::malformed(path.to_path_buf(), reason);
+    let header = npy_header::parse(&bytes).map_err(|r| bad(format!("not a .npy file: {r}")))?;
+    header
+        .check_fits((bytes.len() - header.data_offset) as u64)
+        .map_err(bad)?;
     let npy = npyz::NpyFile::new(&bytes[..]).map_err(|e| bad(format!("not a .npy file: {e}")))?;
     if npy.order() != npyz::Order::C && npy.shape().len() > 1 {
         return Err(bad("expected a C-order array".into()));

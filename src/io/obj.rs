@@ -6,9 +6,10 @@ use crate::error::Result;
 use crate::pprt::mesh::Mesh;
 use std::path::Path;
 
-/// Reads an OBJ file: all its models, triangulated; normals computed when the file lacks
-/// any; degenerate triangles dropped and counted ([`Mesh::from_soup`]). Errors name the
-/// file and the reason.
+/// Reads an OBJ file (a regular file, its size within the memory budget): all its
+/// models, triangulated; normals computed when the file lacks any; degenerate triangles
+/// dropped and counted ([`Mesh::from_soup`]). `mtllib` lines are ignored (materials come
+/// from the scene file; no other file is opened). Errors name the file and the reason.
 pub fn read_obj(path: impl AsRef<Path>) -> Result<Mesh> {
     let path = path.as_ref();
     let opts = tobj::LoadOptions {
@@ -16,7 +17,12 @@ pub fn read_obj(path: impl AsRef<Path>) -> Result<Mesh> {
         single_index: true,
         ..Default::default()
     };
-    let (models, _) = tobj::load_obj(path, &opts).map_err(|e| malformed(path, e.to_string()))?;
+    let bytes = super::input::read_input(path)?;
+    // `mtllib` is ignored: materials come from the scene file, and a library path in a
+    // hostile OBJ could name any file (or a device) on the machine.
+    let no_materials = |_: &Path| Ok((Vec::new(), Default::default()));
+    let (models, _) = tobj::load_obj_buf(&mut &bytes[..], &opts, no_materials)
+        .map_err(|e| malformed(path, e.to_string()))?;
     let (mut positions, mut normals, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
     let mut all_normals = true;
     for m in &models {

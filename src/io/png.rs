@@ -421,7 +421,8 @@ pub fn write_matrix_png(
     let rgb: Vec<[u8; 3]> = (0..size * size)
         .map(|k| {
             let (y, x) = (k / size, k % size);
-            let on_line = |c: usize| c % cell == 0 && starts.contains(&(c / cell)) && c > 0;
+            let on_line =
+                |c: usize| c.is_multiple_of(cell) && starts.contains(&(c / cell)) && c > 0;
             if block_lines && (on_line(x) || on_line(y)) {
                 return [160, 160, 160];
             }

@@ -74,10 +74,7 @@ pub fn data_dir() -> PathBuf {
 /// The scene file `path` parsed, nothing loaded or projected yet.
 pub fn read_scene_spec(path: impl AsRef<Path>) -> Result<SceneSpec> {
     let path = path.as_ref();
-    let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
-        path: path.to_path_buf(),
-        source: e,
-    })?;
+    let text = super::input::read_input_text(path)?;
     // The parser's message quotes the file's line: each line clipped.
     toml::from_str(&text).map_err(|e| {
         let lines: Vec<String> = e.to_string().lines().map(clip).collect();

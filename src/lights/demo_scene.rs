@@ -72,7 +72,7 @@ pub fn light_scene(floor_side: usize, near: usize, far: usize, seed: u64) -> Res
 
 /// An `n x n` grid of shading points on the floor `z = 0`, `[-1, 1]^2`, row by row (cell
 /// centers).
-pub fn floor_points(n: usize) -> Vec<[f64; 3]> {
+pub(crate) fn floor_points(n: usize) -> Vec<[f64; 3]> {
     let c = |i: usize| -1.0 + 2.0 * (i as f64 + 0.5) / n as f64;
     (0..n * n).map(|k| [c(k % n), c(k / n), 0.0]).collect()
 }

@@ -19,10 +19,10 @@ use std::sync::OnceLock;
 pub enum Interpolation {
     /// Trilinear in the corner values (gradients unused): error `O(h^2)`.
     Trilinear,
-    /// [`hermite_weights`]: tensor cubic Hermite with the mixed derivatives taken as
+    /// Tensor cubic Hermite (`proofs/polygon-lights.md`, Sec. 5) with the mixed derivatives taken as
     /// zero; exact for affine fields, error `O(h^2)` in general.
     Hermite,
-    /// [`serendipity_weights`]: the cubic Hermite serendipity interpolant, exact for
+    /// The cubic Hermite serendipity interpolant, exact for
     /// cubic polynomials, error `O(h^4)`.
     Serendipity,
 }
@@ -32,7 +32,7 @@ pub const MAX_LEVEL: u32 = 12;
 
 /// The largest absolute eigenvalue of a packed symmetric 3x3 matrix
 /// `[xx, xy, xz, yy, yz, zz]`: the `|lambda_l^m|` of SHH Sec. 5.
-pub fn max_abs_eigenvalue(h: &[f64; 6]) -> f64 {
+pub(crate) fn max_abs_eigenvalue(h: &[f64; 6]) -> f64 {
     let m = Matrix3::new(h[0], h[1], h[2], h[1], h[3], h[4], h[2], h[4], h[5]);
     SymmetricEigen::new(m)
         .eigenvalues
@@ -361,7 +361,7 @@ impl LightGrid {
     }
 
     /// The coefficients at `x` interpolated from the 8 corners of its shading voxel with
-    /// [`hermite_weights`] (values and gradients; mixed derivatives taken as zero).
+    /// [`Interpolation::Hermite`] (values and gradients; mixed derivatives taken as zero).
     pub fn interpolate(&self, x: [f64; 3]) -> Result<Vec<f64>> {
         self.interpolate_with(x, Interpolation::Hermite)
     }
@@ -456,7 +456,7 @@ fn serendipity_basis() -> &'static (Vec<[i32; 3]>, DMatrix<f64>) {
 /// fixed by the corner values and gradients). It reproduces every cubic polynomial, so
 /// the interpolation error of a smooth field is `O(h^4)`; along each edge it is the 1D
 /// cubic Hermite interpolant (`proofs/polygon-lights.md`, Sec. 5).
-pub fn serendipity_weights(t: [f64; 3], cell: [f64; 3]) -> [(f64, [f64; 3]); 8] {
+pub(crate) fn serendipity_weights(t: [f64; 3], cell: [f64; 3]) -> [(f64, [f64; 3]); 8] {
     let (e, inv) = serendipity_basis();
     let mono: Vec<f64> = e.iter().map(|&a| monomial(a, t).0).collect();
     std::array::from_fn(|c| {
@@ -475,7 +475,7 @@ pub fn serendipity_weights(t: [f64; 3], cell: [f64; 3]) -> [(f64, [f64; 3]); 8] 
 /// `h0(1 - t)` at the far end) and `h1(t) = t (1 - t)^2` (derivative, `-h1(1 - t)` at the
 /// far end), with the mixed derivatives taken as zero. Exact for affine fields, and along
 /// each edge the 1D cubic Hermite interpolant.
-pub fn hermite_weights(t: [f64; 3], c: usize, cell: [f64; 3]) -> (f64, [f64; 3]) {
+pub(crate) fn hermite_weights(t: [f64; 3], c: usize, cell: [f64; 3]) -> (f64, [f64; 3]) {
     let h0 = |s: f64| 1.0 - s * s * (3.0 - 2.0 * s);
     let h1 = |s: f64| s * (1.0 - s) * (1.0 - s);
     let mut value = [0.0; 3];

@@ -13,12 +13,10 @@ pub(crate) mod polygon;
 pub(crate) mod source;
 pub(crate) mod spherical;
 
-pub use demo_scene::{
-    exact_coefficients, floor_points, grid_errors, grid_errors_with, light_scene, LightScene,
-};
+pub(crate) use demo_scene::grid_errors_with;
+pub use demo_scene::{exact_coefficients, grid_errors, light_scene, LightScene};
 pub use grid::{
-    hermite_weights, max_abs_eigenvalue, serendipity_weights, Interpolation, Lattice, LightGrid,
-    Metric, OccupancyOctree, PointError, Refinement, MAX_LEVEL,
+    Interpolation, Lattice, LightGrid, Metric, OccupancyOctree, PointError, Refinement, MAX_LEVEL,
 };
 pub use polygon::{
     polygon_scene, BandLobes, PolygonScene, PolygonalLight, PolygonalLights, ZonalFactorization,

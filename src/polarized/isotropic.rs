@@ -20,7 +20,21 @@ use crate::sh::{lm_index, lm_of_index, num_coeffs};
 use crate::stokes::complex_pair;
 use std::collections::HashMap;
 
-/// The `(j_o, j_i)` flat index pairs of the isotropic layout for band limit `lmax`.
+/// The number of entries of the isotropic layout for band limit `lmax`:
+/// `N (4 N^2 - 3 N + 2) / 3` with `N = lmax + 1` (the shells below `N` of
+/// [`isotropic_pairs`]; about `4/3 lmax^3`, not `(lmax + 1)^2`); `None` past `usize`.
+pub fn isotropic_pair_count(lmax: usize) -> Option<usize> {
+    let n = lmax.checked_add(1)?;
+    let inner = n
+        .checked_mul(n)?
+        .checked_mul(4)?
+        .checked_sub(3 * n)?
+        .checked_add(2)?;
+    Some(n.checked_mul(inner)? / 3)
+}
+
+/// The `(j_o, j_i)` flat index pairs of the isotropic layout for band limit `lmax`
+/// ([`isotropic_pair_count`] of them).
 pub fn isotropic_pairs(lmax: usize) -> Vec<(usize, usize)> {
     let mut out = Vec::new();
     let mut block = |lo: usize, li: usize| {
@@ -145,9 +159,17 @@ pub struct IsotropicMatrix {
 }
 
 impl IsotropicMatrix {
-    /// The sparse form of an isotropic matrix (one channel, its conventions). Error: an
-    /// isotropy defect ([`isotropy_defect`]) above `tolerance`, naming it.
+    /// The sparse form of an isotropic matrix (one channel, its conventions). Errors: a
+    /// `tolerance` that is NaN or negative; an isotropy defect ([`isotropy_defect`]) above
+    /// it, naming it.
     pub fn from_dense(m: &PshMatrix, tolerance: f64) -> Result<Self> {
+        if tolerance.is_nan() || tolerance < 0.0 {
+            return Err(Error::invalid(
+                "isotropy tolerance",
+                format!("{tolerance}"),
+                "a relative tolerance >= 0 (infinity accepts any defect)",
+            ));
+        }
         let defect = isotropy_defect(m);
         if defect > tolerance {
             return Err(Error::invalid(
@@ -415,6 +437,14 @@ mod tests {
             assert_eq!(isotropic_lmax(isotropic_pairs(l).len() + 1), None);
         }
         assert_eq!(isotropic_lmax(10280), Some(19));
+        for l in 0..30 {
+            assert_eq!(
+                isotropic_pair_count(l),
+                Some(isotropic_pairs(l).len()),
+                "{l}"
+            );
+        }
+        assert_eq!(isotropic_pair_count(usize::MAX), None);
     }
 
     /// Blocks of two channels with distinct entries (zero outside PSH (31)).

@@ -187,6 +187,15 @@ pub fn project_operator(
     }
     let t = PshTransform::new(grid_lmax)?;
     let spin = t.spin2.as_ref().expect("grid_lmax >= 2");
+    // The projected fields (4 per basis function, 4 components per grid point) and the
+    // matrix, before either is allocated.
+    let points = t.grid().len();
+    crate::budget::check(
+        "the projected fields of a PSH matrix",
+        &[num_coeffs(lmax), 16, points],
+        8,
+    )?;
+    crate::budget::check("a PSH matrix", &[num_coeffs(lmax), num_coeffs(lmax), 16], 8)?;
     let grid = t.grid();
     let (np, ng, n) = (grid.len(), num_coeffs(grid_lmax), num_coeffs(lmax));
     let tp = ThetaPhiFrameField::new();

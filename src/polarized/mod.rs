@@ -31,7 +31,7 @@ mod transform;
 mod triple;
 mod vector;
 
-pub use angular::apply_angular;
+pub(crate) use angular::apply_angular;
 pub use argument::FieldArgument;
 pub use codomain::{in_index_set, Codomain};
 pub use convolution::{
@@ -41,7 +41,9 @@ pub use convolution::{
 pub use cube::project_cube_map;
 pub use evaluator::PshEvaluator;
 pub use image::project_image;
-pub use isotropic::{isotropic_lmax, isotropic_pairs, isotropy_defect, IsotropicMatrix};
+pub use isotropic::{
+    isotropic_lmax, isotropic_pair_count, isotropic_pairs, isotropy_defect, IsotropicMatrix,
+};
 pub use kernel::{ConvolutionKernel, KernelValue};
 pub use linear_basis::{off_block_fraction, rotation_coefficient_matrix, LinearBasis};
 pub use matrix::{project_operator, MatrixKernel, PshMatrix, SpinBlock22};
@@ -49,7 +51,5 @@ pub use rotation::PshRotation;
 pub use sparse::{SparsePshMatrix, Sparsity};
 pub use synthesis::reconstruct_image;
 pub use transform::PshTransform;
-pub use triple::{
-    spin2_gaunt, visibility_transfer, visibility_transfer_quadrature, TripleTable, RECENT_TABLES,
-};
+pub use triple::{spin2_gaunt, visibility_transfer, visibility_transfer_quadrature, TripleTable};
 pub use vector::PshVector;

@@ -133,7 +133,7 @@ fn gain(column: impl Iterator<Item = f64>) -> f64 {
 
 /// `(-1)^m`.
 fn parity(m: usize) -> f64 {
-    if m % 2 == 0 {
+    if m.is_multiple_of(2) {
         1.0
     } else {
         -1.0

@@ -175,7 +175,7 @@ impl TripleTable {
     /// codomain and convention, without forming the matrix: one pass over the couplings of
     /// PSH (55) per spin-0 component, and of PSH (56) when `f` has `s1, s2` (scalar SH
     /// costs the first pass alone). Errors: as [`Self::transfer`], `f` of another band
-    /// limit, and `f` indexed otherwise than `v`.
+    /// limit, `f` indexed otherwise than `v`, a product beyond the range of `f64`.
     pub fn shadow(&self, v: &PshVector, f: &PshVector) -> Result<PshVector> {
         let coefficients = self.visibility(v)?;
         v.argument()
@@ -209,6 +209,9 @@ impl TripleTable {
                 out.set_spin2(ch, &b);
             }
         }
+        // Finite inputs whose product exceeds the range of f64 are named, not returned
+        // as infinities.
+        crate::error::finite_all("triple product coefficient", out.data())?;
         Ok(out)
     }
 
@@ -267,8 +270,8 @@ fn check_scalar_field(v: &PshVector) -> Result<()> {
 /// The PSH matrix of the shadowing operator `f -> V f` (PSH (54)-(56)) for the visibility
 /// `V = sum v_{lm} Y^R_{lm}` (real SH, PSH (12), a one-channel scalar field of degree
 /// `lv`), band limit `lmax`, from and to fields indexed as `v`. The couplings are built
-/// once per `(lv, lmax)` and reused by later calls (the [`RECENT_TABLES`] most recently
-/// used are kept); [`TripleTable`] holds them explicitly.
+/// once per `(lv, lmax)` and reused by later calls (the four most recently used are
+/// kept); [`TripleTable`] holds them explicitly.
 pub fn visibility_transfer(v: &PshVector, lmax: usize) -> Result<PshMatrix> {
     // Checked before the table is built.
     check_scalar_field(v)?;
@@ -276,7 +279,7 @@ pub fn visibility_transfer(v: &PshVector, lmax: usize) -> Result<PshMatrix> {
 }
 
 /// How many full tables [`visibility_transfer`] keeps between calls.
-pub const RECENT_TABLES: usize = 4;
+pub(crate) const RECENT_TABLES: usize = 4;
 
 /// The full table of `(lv, lmax)`: reused if among the [`RECENT_TABLES`] most recently
 /// used, else built (outside the lock) and kept in place of the least recently used.

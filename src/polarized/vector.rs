@@ -33,7 +33,7 @@ use num_complex::Complex64;
 /// let r = rotation_from_rotvec([0.3, -0.2, 0.9])?;
 /// let g = f.rotated(&r)?;
 /// assert!((g.get(0, 0, 0, 0)? - 0.5).abs() < 1e-15);
-/// for (a, b) in f.band_energies().iter().zip(g.band_energies()) {
+/// for (a, b) in f.band_energies()?.iter().zip(g.band_energies()?) {
 ///     assert!((a - b).abs() < 1e-13);
 /// }
 /// let back = g.rotated(&r.inverse())?;
@@ -298,8 +298,10 @@ impl PshVector {
     }
 
     /// The energy of each degree, `E_l = sum_{c, m, p} f_lmp^2` (`l <= lmax`): by
-    /// Parseval, the squared L2 norm over the sphere of the band `l` of the field.
-    pub fn band_energies(&self) -> Vec<f64> {
+    /// Parseval, the squared L2 norm over the sphere of the band `l` of the field. Error:
+    /// an energy beyond the range of `f64` (coefficients near `1e154` or larger), named
+    /// rather than returned as infinity.
+    pub fn band_energies(&self) -> Result<Vec<f64>> {
         let np = self.codomain.components().len();
         let mut e = vec![0.0; self.lmax + 1];
         for x in self.data.chunks_exact(num_coeffs(self.lmax) * np) {
@@ -307,7 +309,8 @@ impl PshVector {
                 e[crate::sh::lm_of_index(j).0] += f.iter().map(|v| v * v).sum::<f64>();
             }
         }
-        e
+        crate::error::finite_all("band energy", &e)?;
+        Ok(e)
     }
 
     pub(super) fn offset(&self, channel: usize, lm: usize) -> usize {

@@ -7,13 +7,13 @@
 //! | [`Mesh`] | triangle meshes: procedural, OBJ | |
 //! | [`RayleighSky`], [`Sun`] | analytic Rayleigh sky with a sun, as a lobe or a directional light | Chandrasekhar §17 |
 //! | [`DirectionalLight`] | a near-delta source reflected exactly, with a shadow ray | PSH (39) |
-//! | [`reflected_pbrdf`], [`reflected_radiance`] | high orders by convolution at the reflected direction | PSH Sec. 7 |
+//! | [`stages::reflected_pbrdf`], [`stages::reflected_radiance`] | high orders by convolution at the reflected direction | PSH Sec. 7 |
 //! | [`Scene`], [`SceneMaterial`], [`Camera`] | materials, camera, BVH ray queries | |
-//! | [`MirroredBelow`] | pBRDF outputs below the shading plane mirrored: no step at the horizon | `proofs/mirrored-output.md` |
+//! | [`stages::MirroredBelow`] | pBRDF outputs below the shading plane mirrored: no step at the horizon | `proofs/mirrored-output.md` |
 //! | [`TransferSettings`], [`Planning`] | what a precomputation is asked to do, how much the plan may drop | |
 //! | [`Plan`], [`Reason`] | what a scene needs: Stokes components, visibility, storage, high orders | PSH (41), (52)-(56) |
-//! | [`precompute_planned`], [`VertexTransfer`] | visibility, PSH (54)-(56), (35)-(37), (41) per vertex | PSH Sec. 7 |
-//! | [`render_frame`], [`StokesImage`] | runtime frame, camera frames, polarizer images | PSH (14), (30) |
+//! | [`stages::precompute_planned`], [`VertexTransfer`] | visibility, PSH (54)-(56), (35)-(37), (41) per vertex | PSH Sec. 7 |
+//! | [`stages`], [`StokesImage`] | the frame in stages (precompute, primary hits, direct light, runtime frame) in the camera's frames; polarizer images | PSH (14), (30) |
 //! | [`Reference`] | quasi-Monte Carlo reference renderer in explicit frames | PSH (39) |
 //! | [`builtin_scene`] | the built-in scenes | |
 
@@ -31,18 +31,17 @@ pub(crate) mod scene;
 pub(crate) mod scene_spec;
 pub(crate) mod settings;
 pub(crate) mod sky;
+pub mod stages;
 pub(crate) mod transfer;
 
 pub use builtin::{builtin_scene, builtin_unpolarized_scene};
 pub use light::DirectionalLight;
 pub use mesh::Mesh;
-pub use mirrored::MirroredBelow;
 pub use plan::{MaterialPlan, Plan, Reason, StokesEvidence};
-pub use reference::{Fidelity, Reference, ReferenceSettings, Workspace, MAX_PIXEL_GRID};
-pub use reflected::{reflected_pbrdf, reflected_radiance};
-pub use render::{
-    direct_light, primary_hits, render_frame, vertex_stokes, StokesImage, UnphysicalPixels,
+pub use reference::{
+    check_samples, Fidelity, Reference, ReferenceSettings, MAX_PIXEL_GRID, MAX_REFERENCE_SAMPLES,
 };
+pub use render::{StokesImage, UnphysicalPixels};
 pub use scene::{Camera, EnvironmentSource, Hit, Scene, SceneMaterial, SceneObject};
 pub use scene_spec::{
     CameraSpec, EnvironmentSpec, MaterialSpec, MeshSpec, SceneFiles, SceneSpec, SettingsSpec, Up,
@@ -53,7 +52,4 @@ pub use settings::{
     MAX_L_HIGH, MAX_L_LOW,
 };
 pub use sky::{RayleighSky, Sun};
-pub use transfer::{
-    high_order_fields, precompute, precompute_planned, ray_visibility, VertexTransfer,
-    VisibilityRays,
-};
+pub use transfer::VertexTransfer;

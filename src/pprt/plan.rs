@@ -269,6 +269,7 @@ impl Plan {
             .materials()
             .par_iter()
             .map(|m| {
+                progress.check_cancelled("the plan's projection of the materials")?;
                 let projected = m.matrices(lh);
                 progress.advance(1);
                 projected
@@ -496,7 +497,7 @@ fn high_orders(
         parts.push(k.convolve(&env.channel(c)?)?);
     }
     let g = PshVector::from_channels(&parts)?;
-    let e = g.band_energies();
+    let e = g.band_energies()?;
     let total: f64 = e.iter().sum::<f64>().max(f64::MIN_POSITIVE);
     // abs: an empty sum is -0.
     let tail = |cut: usize| (e[cut + 1..].iter().sum::<f64>().abs() / total).sqrt();

@@ -88,16 +88,11 @@ pub struct Reference<'a> {
 }
 
 impl<'a> Reference<'a> {
-    /// Errors: no samples; a band limit above the environment's, or (for
-    /// [`Fidelity::BandLimited`]) one the materials cannot be projected at.
+    /// Errors: samples not in `1..=`[`MAX_REFERENCE_SAMPLES`]; a band limit above the
+    /// environment's, or (for [`Fidelity::BandLimited`]) one the materials cannot be
+    /// projected at.
     pub fn new(scene: &'a Scene, settings: ReferenceSettings) -> Result<Self> {
-        if settings.samples == 0 {
-            return Err(Error::invalid(
-                "reference samples",
-                "0",
-                "at least one direction per shading point",
-            ));
-        }
+        check_samples(settings.samples)?;
         let lobes = scene
             .materials()
             .iter()
@@ -237,7 +232,7 @@ impl<'a> Reference<'a> {
 
     /// The image through the pixels' primary hits (shading point and normal interpolated
     /// with the hit's barycentric coordinates, the light towards the camera in its frames,
-    /// as [`super::render_frame`]); pixels without a hit see the integrand's environment.
+    /// as [`super::stages::render_frame`]); pixels without a hit see the integrand's environment.
     /// Error: `hits` not one per pixel of the scene's camera ([`super::render::primary_hits`]).
     pub fn render(&self, hits: &[Option<Hit>]) -> Result<StokesImage> {
         let cam = self.scene.camera();
@@ -345,6 +340,23 @@ impl<'a> Reference<'a> {
 
 /// Largest [`Reference::render_antialiased`] grid (1024 positions per pixel).
 pub const MAX_PIXEL_GRID: usize = 32;
+
+/// The most directions per shading point the reference takes (2^20: a ground truth
+/// converges far below it, and at the reference's pace of about 10^7 directions per
+/// second and core, a 480 x 360 image at this count takes days).
+pub const MAX_REFERENCE_SAMPLES: usize = 1 << 20;
+
+/// Checks a count of directions per shading point: in `1..=`[`MAX_REFERENCE_SAMPLES`].
+pub fn check_samples(samples: usize) -> Result<()> {
+    if (1..=MAX_REFERENCE_SAMPLES).contains(&samples) {
+        return Ok(());
+    }
+    Err(Error::invalid(
+        "reference samples",
+        samples.to_string(),
+        format!("directions per shading point in 1..={MAX_REFERENCE_SAMPLES}"),
+    ))
+}
 
 fn vertex_error(object: usize, vertex: usize) -> Error {
     Error::invalid(

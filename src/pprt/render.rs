@@ -189,7 +189,7 @@ pub fn direct_light(scene: &Scene, hits: &[Option<Hit>]) -> Result<Vec<[[f64; 4]
 /// The Stokes vectors `[object][vertex][channel]` leaving every vertex towards the camera,
 /// in the camera's frames at the vertex's direction: PSH (30) in the shading frame,
 /// carried to world and read in the camera frame by PSH (14), plus the high orders
-/// `high[material]` at the reflected direction ([`super::reflected_radiance`]). Error: `transfer`
+/// `high[material]` at the reflected direction ([`super::stages::reflected_radiance`]). Error: `transfer`
 /// or `high` not of this scene (one per vertex of each object, one per material).
 pub fn vertex_stokes(
     scene: &Scene,

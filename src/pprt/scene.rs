@@ -327,8 +327,15 @@ pub struct Scene {
 pub(crate) const SHADOW_RAY_OFFSET: f64 = 1e-7;
 
 impl Scene {
+    /// Bytes per triangle of the ray-query structure: its record with its bounding box,
+    /// two BVH nodes and the build's index (336 bytes, measured by a test), with room for
+    /// the build's temporaries. Checked against the memory budget before the BVH is
+    /// built.
+    pub const TRIANGLE_BYTES: usize = 768;
+
     /// Errors: an object naming a material that does not exist, an environment without 3
-    /// channels.
+    /// channels, more triangles than the memory budget holds ([`Self::TRIANGLE_BYTES`]
+    /// each).
     pub fn new(
         objects: Vec<SceneObject>,
         materials: Vec<SceneMaterial>,
@@ -358,7 +365,9 @@ impl Scene {
             "environment",
             "a scene's incident light",
         )?;
-        let mut tris = Vec::new();
+        let triangles = objects.iter().map(|o| o.mesh.triangles().len()).sum();
+        crate::budget::check("the scene's BVH", &[triangles], Self::TRIANGLE_BYTES)?;
+        let mut tris = Vec::with_capacity(triangles);
         for (object, o) in objects.iter().enumerate() {
             let p = o.mesh.positions();
             for (index, t) in o.mesh.triangles().iter().enumerate() {
@@ -560,5 +569,23 @@ impl Scene {
             u,
             v,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// [`Scene::TRIANGLE_BYTES`] covers what the ray queries keep per triangle, with room
+    /// to spare for the build.
+    #[test]
+    fn triangle_bytes_cover_the_bvh() {
+        let kept = std::mem::size_of::<Tri>()
+            + 2 * std::mem::size_of::<bvh::bvh::BvhNode<f64, 3>>()
+            + std::mem::size_of::<usize>();
+        assert!(
+            2 * kept <= Scene::TRIANGLE_BYTES,
+            "{kept} bytes per triangle"
+        );
     }
 }

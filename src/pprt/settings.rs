@@ -23,7 +23,7 @@ pub struct TransferSettings {
     /// Band limit of the transfer (`l <= l_low`).
     pub l_low: usize,
     /// Band limit of the high orders by convolution (`l_low < l <= l_high`,
-    /// [`super::reflected_radiance`]); `None` (or `l_low`): no high orders.
+    /// [`super::stages::reflected_radiance`]); `None` (or `l_low`): no high orders.
     pub l_high: Option<usize>,
     /// Visibility rays per vertex (quasi-uniform Fibonacci directions).
     pub rays: usize,

@@ -143,6 +143,7 @@ pub fn precompute_planned(
                 .par_iter()
                 .zip(o.mesh.normals())
                 .map(|(p, n)| {
+                    progress.check_cancelled("the precomputation")?;
                     let rotation = Frame::from_z(*n)?.rotation();
                     let to_local = rotation.inverse();
                     let (visibility, local) = match (&table, &plan.horizon) {
@@ -173,7 +174,7 @@ pub fn precompute_planned(
     transfer
 }
 
-/// The high orders per material ([`super::reflected_radiance`], [`Planning::Full`]): the environment
+/// The high orders per material ([`super::stages::reflected_radiance`], [`Planning::Full`]): the environment
 /// convolved with the kernel of the material's reflected pBRDF over the bands
 /// `l_low < l <= l_high` (RGB); `None` for every material when `l_high <= l_low`. Error: an
 /// environment below `l_high`.

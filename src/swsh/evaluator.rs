@@ -123,7 +123,7 @@ fn diagonal_column(spin: i64, lmax: usize, half: HalfAngle, out: &mut Vec<f64>) 
     let s = spin.unsigned_abs() as usize;
     let s2 = (s * s) as f64;
     let u = half.u();
-    let sign = if s % 2 == 0 { 1.0 } else { -1.0 };
+    let sign = if s.is_multiple_of(2) { 1.0 } else { -1.0 };
     let norm = |l: usize| sign * ((2 * l + 1) as f64 / (4.0 * std::f64::consts::PI)).sqrt();
     let mut d = half.cos().powi(2 * s as i32);
     let mut delta = 0.0;

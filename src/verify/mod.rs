@@ -14,7 +14,8 @@ mod matrix;
 mod optics;
 pub(crate) mod oracle;
 mod pbrdf;
-pub use pbrdf::{energy_below_horizon, isobi2_index, HORIZON_BOUND};
+#[cfg(test)]
+pub(crate) use pbrdf::isobi2_index;
 mod plan;
 mod polarized;
 pub mod polygon;

@@ -844,7 +844,7 @@ fn replace_value(dict: &str, key: &str, value: &str) -> String {
 fn npy_file(version: u8, dict: &str, bad_len: Option<usize>, data: &[u8]) -> Vec<u8> {
     let len_bytes = if version == 1 { 2 } else { 4 };
     let mut header = dict.as_bytes().to_vec();
-    while (8 + len_bytes + header.len() + 1) % 64 != 0 {
+    while !(8 + len_bytes + header.len() + 1).is_multiple_of(64) {
         header.push(b' ');
     }
     header.push(b'\n');

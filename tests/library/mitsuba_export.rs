@@ -3,7 +3,7 @@
 //! (`validation/test_mitsuba_render.py`); these tests pin the bookkeeping without it.
 
 use psh::io::{export_mitsuba, load_scene};
-use psh::pprt::{primary_hits, Fidelity, Reference, ReferenceSettings};
+use psh::pprt::{stages::primary_hits, Fidelity, Reference, ReferenceSettings};
 use std::path::PathBuf;
 
 fn temp(name: &str) -> PathBuf {

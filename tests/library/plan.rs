@@ -2,7 +2,7 @@
 //! planned render against the full one, and bad input.
 
 use psh::polarized::{Codomain, Sparsity};
-use psh::pprt::precompute_planned;
+use psh::pprt::stages::precompute_planned;
 use psh::pprt::Plan;
 use psh::pprt::TransferSettings;
 use psh::pprt::Visibility;

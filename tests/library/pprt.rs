@@ -8,7 +8,7 @@
 use psh::geometry::{FrameField, ThetaPhiFrameField};
 use psh::polarized::{MatrixKernel, PshTransform};
 use psh::pprt::builtin_scene;
-use psh::pprt::precompute;
+use psh::pprt::stages::precompute;
 use psh::pprt::{Planning, TransferSettings, Visibility};
 use psh::sh::sh_real;
 use psh::stokes::MuellerField;
@@ -249,7 +249,9 @@ material = "gold"
     ];
     let mut bad = settings;
     bad.l_high = Some(2);
-    let e = psh::pprt::precompute(&scene, bad).unwrap_err().to_string();
+    let e = psh::pprt::stages::precompute(&scene, bad)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("l_high 2"), "{e}");
     for (k, (text, what)) in cases.iter().enumerate() {
         let p = dir.join(format!("bad{k}.toml"));
@@ -266,7 +268,7 @@ material = "gold"
 #[test]
 fn rotating_everything_together_leaves_the_image_unchanged() {
     use psh::polarized::PshRotation;
-    use psh::pprt::{direct_light, primary_hits, render_frame};
+    use psh::pprt::stages::{direct_light, primary_hits, render_frame};
     use psh::pprt::{Camera, Scene, SceneObject};
     let l = 3;
     // The background of both from the coefficients (the built-in sky is not turned).
@@ -340,7 +342,10 @@ fn rotating_everything_together_leaves_the_image_unchanged() {
 /// sky with its sun lobe cut to l = 4 has pixels with `s0 < 0` or DoP > 1 in this view.
 #[test]
 fn the_background_is_the_environment_itself() {
-    use psh::pprt::{direct_light, primary_hits, EnvironmentSource};
+    use psh::pprt::{
+        stages::{direct_light, primary_hits},
+        EnvironmentSource,
+    };
     let unphysical = |bg: &[[[f64; 4]; 3]]| {
         bg.iter()
             .flatten()
@@ -431,13 +436,17 @@ fn the_valid_range_projection_leaves_no_unphysical_pixel() {
 /// default).
 #[test]
 fn the_valid_range_projection_brings_pixels_closer_to_the_reference() {
-    use psh::pprt::{primary_hits, render_frame, Fidelity, Reference, ReferenceSettings};
+    use psh::pprt::{
+        stages::{primary_hits, render_frame},
+        Fidelity, Reference, ReferenceSettings,
+    };
     let scene = builtin_scene(9, 64, 48).unwrap();
     let settings = TransferSettings::default();
     let plan = psh::pprt::Plan::new(&scene, settings, Planning::Full).unwrap();
-    let transfer = psh::pprt::precompute_planned(&scene, &plan, &psh::progress::Silent).unwrap();
+    let transfer =
+        psh::pprt::stages::precompute_planned(&scene, &plan, &psh::progress::Silent).unwrap();
     let hits = primary_hits(&scene);
-    let direct = psh::pprt::direct_light(&scene, &hits).unwrap();
+    let direct = psh::pprt::stages::direct_light(&scene, &hits).unwrap();
     let raw = render_frame(&scene, &transfer, &plan.high_fields(), &hits, &direct).unwrap();
     let mut valid = raw.clone();
     valid.to_nearest_physical().unwrap();
@@ -479,8 +488,8 @@ fn the_valid_range_projection_brings_pixels_closer_to_the_reference() {
 /// where each value has one frame; a pixel interpolates vertices whose `chi` differ.
 #[test]
 fn camera_roll_turns_s1_s2_as_psh_14() {
-    use psh::pprt::high_order_fields;
-    use psh::pprt::vertex_stokes;
+    use psh::pprt::stages::high_order_fields;
+    use psh::pprt::stages::vertex_stokes;
     let mut scene = builtin_scene(6, 16, 16).unwrap();
     let settings = TransferSettings::new(4, Some(6), 64, psh::pprt::Visibility::Rays);
     let transfer = precompute(&scene, settings).unwrap();
@@ -577,7 +586,7 @@ fn ablation_writes_three_variants_side_by_side() {
 /// wrong sizes, a hit on a triangle the scene lacks, a material or workspace the reference does not have.
 #[test]
 fn mismatched_runtime_inputs_are_errors() {
-    use psh::pprt::{direct_light, primary_hits, render_frame, vertex_stokes};
+    use psh::pprt::stages::{direct_light, primary_hits, render_frame, vertex_stokes};
     use psh::pprt::{Fidelity, Reference, ReferenceSettings};
     let scene = builtin_scene(3, 8, 6).unwrap();
     let settings = TransferSettings::new(3, None, 1, psh::pprt::Visibility::Off);
@@ -702,7 +711,9 @@ fn shadow_rays_see_an_occluder_close_above_the_surface() {
 /// seen vertex is evaluated on its own, each pixel interpolates its own triangle).
 #[test]
 fn a_frame_reads_only_the_vertices_it_sees_on_any_thread_count() {
-    use psh::pprt::{direct_light, high_order_fields, primary_hits, render_frame, vertex_stokes};
+    use psh::pprt::stages::{
+        direct_light, high_order_fields, primary_hits, render_frame, vertex_stokes,
+    };
     let scene = builtin_scene(6, 40, 30).unwrap();
     let settings = TransferSettings::new(3, Some(6), 32, psh::pprt::Visibility::Rays);
     let transfer = precompute(&scene, settings).unwrap();

@@ -29,13 +29,11 @@ fn bench_error_writes_the_contract() {
     use psh::apps::bench_error::{bench_error, BenchErrorOptions};
     let dir = std::env::temp_dir().join(format!("psh-bench-error-{}", std::process::id()));
     let scene = builtin_scene(3, 24, 18).unwrap();
-    let options = BenchErrorOptions {
-        l_max: 3,
-        rays: 16,
-        spp: vec![1, 4],
-        ground_truth_spp: 16,
-        ground_truth: None,
-    };
+    let mut options = BenchErrorOptions::default();
+    options.l_max = 3;
+    options.rays = 16;
+    options.spp = vec![1, 4];
+    options.ground_truth_spp = 16;
     let report = bench_error(&scene, &options, &dir, &psh::progress::Silent).unwrap();
     assert_eq!(report.ground_truth_spp, 16);
     let rows = &report.rows;
@@ -65,10 +63,8 @@ fn bench_error_writes_the_contract() {
     ] {
         assert!(dir.join(f).exists(), "{f}");
     }
-    let bad = BenchErrorOptions {
-        l_max: 7,
-        ..options
-    };
+    let mut bad = options.clone();
+    bad.l_max = 7;
     let e = bench_error(&scene, &bad, &dir, &psh::progress::Silent)
         .unwrap_err()
         .to_string();
@@ -83,7 +79,10 @@ fn bench_error_writes_the_contract() {
 fn bench_error_takes_an_outside_ground_truth() {
     use exr::prelude::*;
     use psh::apps::bench_error::{bench_error, ground_truth_image, BenchErrorOptions};
-    use psh::pprt::{direct_light, precompute_planned, primary_hits, render_frame, Plan};
+    use psh::pprt::{
+        stages::{direct_light, precompute_planned, primary_hits, render_frame},
+        Plan,
+    };
     let dir = std::env::temp_dir().join(format!("psh-outside-truth-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let scene = builtin_scene(3, 20, 15).unwrap();
@@ -112,13 +111,12 @@ fn bench_error_takes_an_outside_ground_truth() {
     Image::from_layer(layer).write().to_file(&path).unwrap();
     let read = psh::io::read_stokes_image(&path).unwrap();
     let truth = ground_truth_image(&scene, read).unwrap();
-    let options = BenchErrorOptions {
-        l_max: 3,
-        rays: 16,
-        spp: vec![1],
-        ground_truth_spp: 4,
-        ground_truth: Some(truth),
-    };
+    let mut options = BenchErrorOptions::default();
+    options.l_max = 3;
+    options.rays = 16;
+    options.spp = vec![1];
+    options.ground_truth_spp = 4;
+    options.ground_truth = Some(truth);
     let report = bench_error(&scene, &options, &dir, &psh::progress::Silent).unwrap();
     assert_eq!(report.ground_truth, "outside image");
     let row = report

@@ -5,7 +5,7 @@ use clap::Args;
 use psh::apps::{ImageSize, SceneSetup};
 use psh::names::Named;
 use psh::Error;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// A parser of a named choice ([`psh::names::Named`]): the help lists the names.
 pub fn named<T: Named + Send + Sync>() -> impl TypedValueParser<Value = T> {
@@ -88,17 +88,15 @@ pub fn parse_degrees(x: &str) -> psh::Result<f64> {
 
 /// A positive sample count (`--spp`, `--reference`).
 pub fn parse_spp(x: &str) -> psh::Result<usize> {
-    x.trim()
-        .parse::<usize>()
-        .ok()
-        .filter(|&n| n > 0)
-        .ok_or_else(|| {
-            Error::invalid(
-                "sample count",
-                x.to_string(),
-                "a positive number of samples (--spp: comma-separated)",
-            )
-        })
+    let n = x.trim().parse::<usize>().map_err(|_| {
+        Error::invalid(
+            "sample count",
+            x.to_string(),
+            "a positive number of samples (--spp: comma-separated)",
+        )
+    })?;
+    psh::pprt::check_samples(n)?;
+    Ok(n)
 }
 
 /// A report as JSON.
@@ -110,4 +108,17 @@ pub fn to_json(report: &impl serde::Serialize) -> psh::Result<serde_json::Value>
             "a report serializable as JSON",
         )
     })
+}
+
+/// Runs `body`, whose files appear together or not at all and never over one of
+/// `inputs`; `output`, known in advance, is checked before any work (a regular file or
+/// new, in a directory that exists, not an input: [`psh::io::check_output`]).
+pub fn writing<T>(
+    inputs: &[PathBuf],
+    output: &Path,
+    body: impl FnOnce() -> psh::Result<T>,
+) -> psh::Result<T> {
+    let target = psh::io::check_output(output)?;
+    psh::io::refuse_input(inputs, &target)?;
+    psh::io::all_or_nothing(inputs, body)
 }

@@ -1,14 +1,14 @@
 //! Commands on coefficient files: `project` a map, `rotate`, `reconstruct` a map,
 //! `convolve` with a kernel, `apply` a pBRDF matrix.
 
-use crate::args::{named, parse_rotvec, WindowArg};
+use crate::args::{named, parse_rotvec, writing, WindowArg};
 use clap::{Args, ValueEnum};
 use psh::geometry::rotation_from_rotvec;
 use psh::map::{MapLayout, StokesMap};
 use psh::polarized::{Codomain, FieldArgument};
 use psh::Error;
 use serde_json::json;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(Args)]
 pub struct ProjectArgs {
@@ -120,17 +120,6 @@ fn parse_equirect(size: &str) -> psh::Result<EquirectSize> {
     }
 }
 
-/// Runs `body`, whose files appear together or not at all and never over one of
-/// `inputs`; `output`, known in advance, is checked before any work.
-fn writing<T>(
-    inputs: &[PathBuf],
-    output: &Path,
-    body: impl FnOnce() -> psh::Result<T>,
-) -> psh::Result<T> {
-    psh::io::refuse_input(inputs, output)?;
-    psh::io::all_or_nothing(inputs, body)
-}
-
 pub fn project(a: &ProjectArgs) -> psh::Result<serde_json::Value> {
     let codomain = a.codomain;
     psh::sh::check_lmax(a.lmax)?;
@@ -167,6 +156,8 @@ pub fn reconstruct(a: &ReconstructArgs) -> psh::Result<serde_json::Value> {
         (None, None) => unreachable!("clap requires --equirect or --cube"),
     };
     let window = a.window.window;
+    // Where the files go, before any work.
+    psh::io::check_output(format!("{}_s0.exr", a.output))?;
     let v = psh::io::read_psh_npz(&a.input)?;
     // The map with its files and pictures, before the map is made.
     psh::io::check_stokes_output(layout.width().saturating_mul(layout.height()), v.channels())?;

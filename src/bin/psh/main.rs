@@ -137,6 +137,12 @@ impl From<serde_json::Value> for Outcome {
 
 fn main() -> ExitCode {
     use clap::{CommandFactory, FromArgMatches};
+    // Interrupted (SIGINT, SIGTERM, SIGHUP), psh removes its temporary files and exits:
+    // the outputs stay as they were.
+    let _ = ctrlc::set_handler(|| {
+        psh::io::remove_partial_outputs();
+        std::process::exit(130);
+    });
     let parsed = allow_negative_numbers(Cli::command())
         .try_get_matches()
         .and_then(|m| Cli::from_arg_matches(&m));

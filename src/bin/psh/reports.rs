@@ -68,10 +68,9 @@ pub fn isd_report(a: &OutDir) -> psh::Result<Outcome> {
 
 pub fn figures(a: &FiguresArgs) -> psh::Result<Outcome> {
     use psh::figures;
-    let options = figures::FigureOptions {
-        quick: a.quick,
-        mitsuba: a.mitsuba.clone(),
-    };
+    let mut options = figures::FigureOptions::default();
+    options.quick = a.quick;
+    options.mitsuba = a.mitsuba.clone();
     let done = |r: &figures::FigureReport| {
         let verdict = r.comparison.as_ref().map_or(String::new(), |c| {
             let holds = if c.holds { "holds" } else { "DOES NOT HOLD" };

@@ -22,16 +22,16 @@ pub struct BenchErrorArgs {
     #[arg(long, default_value = "160x120")]
     size: ImageSize,
     /// Largest band limit of the PPRT rows.
-    #[arg(long, default_value_t = 9)]
+    #[arg(long, default_value_t = BenchErrorOptions::L_MAX)]
     lmax: usize,
     /// Visibility rays per vertex of the PPRT rows.
-    #[arg(long, default_value_t = 256)]
+    #[arg(long, default_value_t = BenchErrorOptions::RAYS)]
     rays: usize,
     /// Samples per pixel of the reference rows, comma-separated.
-    #[arg(long, default_value = "1,4,16,64,256", value_delimiter = ',', value_parser = parse_spp)]
+    #[arg(long, default_values_t = BenchErrorOptions::SPP, value_delimiter = ',', value_parser = parse_spp)]
     spp: Vec<usize>,
     /// Samples per pixel of the ground truth.
-    #[arg(long, default_value_t = 2048)]
+    #[arg(long, default_value_t = BenchErrorOptions::GROUND_TRUTH_SPP, value_parser = parse_spp)]
     ground_truth_spp: usize,
     /// An outside ground truth: a Stokes image EXR with layers S0..S3 (R, G, B), as
     /// Mitsuba 3's stokes integrator writes it, of the scene's camera (docs/mitsuba.md);
@@ -77,19 +77,16 @@ pub fn bench_error(a: &BenchErrorArgs) -> psh::Result<serde_json::Value> {
         a.spp,
         a.out.display()
     );
-    let options = BenchErrorOptions {
-        l_max: a.lmax,
-        rays: a.rays,
-        spp: a.spp.clone(),
-        ground_truth_spp: a.ground_truth_spp,
-        ground_truth: a
-            .ground_truth
-            .as_ref()
-            .map(|p| {
-                psh::io::read_stokes_image(p).and_then(|image| ground_truth_image(&scene, image))
-            })
-            .transpose()?,
-    };
+    let mut options = BenchErrorOptions::default();
+    options.l_max = a.lmax;
+    options.rays = a.rays;
+    options.spp = a.spp.clone();
+    options.ground_truth_spp = a.ground_truth_spp;
+    options.ground_truth = a
+        .ground_truth
+        .as_ref()
+        .map(|p| psh::io::read_stokes_image(p).and_then(|image| ground_truth_image(&scene, image)))
+        .transpose()?;
     to_json(&run_bench_error(
         &scene,
         &options,

@@ -86,7 +86,7 @@ impl CisWalk {
     pub fn at(&mut self, m: usize) -> (f64, f64) {
         let e = match self.last {
             Some((k, e)) if k == m => e,
-            Some((k, e)) if k + 1 == m && m % CIS_RESTART != 0 => e * self.step,
+            Some((k, e)) if k + 1 == m && !m.is_multiple_of(CIS_RESTART) => e * self.step,
             _ => {
                 let (c, s) = cis_m(m, self.phi);
                 Complex64::new(c, s)

@@ -299,7 +299,7 @@ impl StepConsts<'_> {
         let ((y1, y0), (x1, x0)) = (src_row(a), src_row(a + 1));
         let o = dst_rows.slot(a + 1) * s;
         if two {
-            debug_assert!(a % 2 == 0 && dst_rows.slot(a + 2) == dst_rows.slot(a + 1) + 1);
+            debug_assert!(a.is_multiple_of(2) && dst_rows.slot(a + 2) == dst_rows.slot(a + 1) + 1);
             let (c0, c1) = (self.row(a), self.row(a + 1));
             let (z1, z0) = src_row(a + 2);
             let (upper, lower) = dst[o..o + 2 * s].split_at_mut(s);
@@ -323,7 +323,7 @@ impl StepConsts<'_> {
         let (from, to) = (rows.slot(big_j - a + 1) * s, rows.slot(a + 1) * s);
         for b in 0..=big_j {
             let v = dst[from + (big_j - b) + 1];
-            dst[to + b + 1] = if (a + b) % 2 == 0 { v } else { -v };
+            dst[to + b + 1] = if (a + b).is_multiple_of(2) { v } else { -v };
         }
     }
 }

@@ -23,7 +23,7 @@ pub struct WignerBlockArgs {
     rotvec: [f64; 3],
     /// Output .npy: float64 [2l+1, 2l+1] (real) or [2l+1, 2l+1, 2] (complex).
     #[arg(short, long)]
-    output: PathBuf,
+    pub output: PathBuf,
 }
 
 #[derive(Args)]
@@ -35,10 +35,10 @@ pub struct SwshPointsArgs {
     lmax: usize,
     /// Input .npy: float64 [points, 2] of (theta, phi) in radians.
     #[arg(long)]
-    points: PathBuf,
+    pub points: PathBuf,
     /// Output .npy: float64 [points, (lmax+1)^2, 2].
     #[arg(short, long)]
-    output: PathBuf,
+    pub output: PathBuf,
 }
 
 #[derive(Args)]
@@ -47,10 +47,10 @@ pub struct ShDerivativesArgs {
     lmax: usize,
     /// Input .npy: float64 [points, 3] of unit directions.
     #[arg(long)]
-    points: PathBuf,
+    pub points: PathBuf,
     /// Output .npy: float64 [points, (lmax+1)^2, 10].
     #[arg(short, long)]
-    output: PathBuf,
+    pub output: PathBuf,
 }
 
 /// The direction of a transform.
@@ -74,10 +74,10 @@ pub struct ShtArgs {
     /// synthesis; grid values [lmax+1, 2 lmax+2] (real) or [lmax+1, 2 lmax+2, 2] (complex)
     /// for analysis.
     #[arg(long)]
-    input: PathBuf,
+    pub input: PathBuf,
     /// Output .npy (the other of the two shapes).
     #[arg(short, long)]
-    output: PathBuf,
+    pub output: PathBuf,
 }
 
 #[derive(Args)]
@@ -92,10 +92,10 @@ pub struct SpinShtArgs {
     /// Input .npy: coefficients [(lmax+1)^2, 2] for synthesis; grid values
     /// [lmax+1, 2 lmax+2, 2] for analysis.
     #[arg(long)]
-    input: PathBuf,
+    pub input: PathBuf,
     /// Output .npy (the other of the two shapes).
     #[arg(short, long)]
-    output: PathBuf,
+    pub output: PathBuf,
 }
 
 /// Largest degree of `psh eval wigner-block` (the recursion costs l^3).

@@ -6,6 +6,7 @@ mod arrays;
 mod basis;
 mod optics;
 
+use crate::args::writing;
 use clap::{Subcommand, ValueEnum};
 use num_complex::Complex64;
 
@@ -60,11 +61,17 @@ pub fn run(e: &Eval) -> psh::Result<serde_json::Value> {
         Eval::Swsh(a) => basis::swsh(a),
         Eval::Legendre(a) => basis::legendre(a),
         Eval::Grid(a) => basis::grid(a),
-        Eval::WignerBlock(a) => arrays::wigner_block(a),
-        Eval::SwshPoints(a) => arrays::swsh_points(a),
-        Eval::ShDerivatives(a) => arrays::sh_derivatives(a),
-        Eval::Sht(a) => arrays::sht(a),
-        Eval::SpinSht(a) => arrays::spin_sht(a),
+        Eval::WignerBlock(a) => writing(&[], &a.output, || arrays::wigner_block(a)),
+        Eval::SwshPoints(a) => writing(std::slice::from_ref(&a.points), &a.output, || {
+            arrays::swsh_points(a)
+        }),
+        Eval::ShDerivatives(a) => writing(std::slice::from_ref(&a.points), &a.output, || {
+            arrays::sh_derivatives(a)
+        }),
+        Eval::Sht(a) => writing(std::slice::from_ref(&a.input), &a.output, || arrays::sht(a)),
+        Eval::SpinSht(a) => writing(std::slice::from_ref(&a.input), &a.output, || {
+            arrays::spin_sht(a)
+        }),
         Eval::Fresnel(a) => optics::fresnel(a),
         Eval::Microfacet(a) => optics::microfacet(a),
         Eval::Polarizer(a) => optics::polarizer(a),
