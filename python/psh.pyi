@@ -265,4 +265,5 @@ def render(
     """PPRT (PSH Sec. 7): ``(stokes (3, height, width, 4), report)``."""
 
 def verify(filter: Optional[str] = None) -> list[dict]:
-    """The checks of ``psh verify`` whose id contains ``filter``."""
+    """The checks of ``psh verify`` whose id contains ``filter`` (ValueError when none
+    does)."""

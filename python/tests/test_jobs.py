@@ -4,6 +4,7 @@ import json
 import pathlib
 
 import numpy as np
+import pytest
 
 import psh
 
@@ -29,4 +30,6 @@ def test_verify_runs_psh_checks():
     assert results and all(r["id"].startswith("swsh.") for r in results)
     assert all(r["passed"] for r in results), [r for r in results if not r["passed"]]
     assert {"id", "source", "description", "max_error", "tolerance", "passed"} <= set(results[0])
-    assert psh.verify("no-such-check") == []
+    # A filter no check matches is a mistake (as `psh verify --filter` says), not [].
+    with pytest.raises(ValueError, match="no-such-check"):
+        psh.verify("no-such-check")
