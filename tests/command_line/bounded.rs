@@ -337,3 +337,29 @@ fn render_outputs_are_checked_first() {
         &["polarizer angle", "1e308"],
     );
 }
+
+/// A polarizer angle of 1e308 degrees is finite: the axis (modulo 180 degrees) gives a
+/// polarizer's Mueller matrix, finite, `m00 = 1/2`, no panic.
+#[test]
+fn huge_polarizer_angles_are_reduced() {
+    let out = psh_within(
+        &["eval", "polarizer", "--angle-deg", "1e308"],
+        Duration::from_secs(60),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let m: Vec<f64> = json["mueller"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|row| row.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
+        .collect();
+    assert_eq!(m.len(), 16);
+    assert_eq!(m[0], 0.5);
+    // A projector scaled by 1/2: m11 + m22 = 1/2 (c^2 + s^2 = 1).
+    assert!((m[5] + m[10] - 0.5).abs() < 1e-15);
+}
