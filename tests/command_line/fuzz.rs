@@ -630,15 +630,10 @@ fn unzip(bytes: &[u8]) -> Vec<(String, Vec<u8>)> {
         .collect()
 }
 
-/// A valid zip archive of `members` (CRCs right), stored or deflated; `None` when the
-/// zip writer refuses them (a duplicate name).
-fn zip(members: &[(String, Vec<u8>)], deflate: bool) -> Option<Vec<u8>> {
+/// A valid zip archive of `members` (CRCs right), stored, deflated or bzip2-compressed;
+/// `None` when the zip writer refuses them (a duplicate name).
+fn zip(members: &[(String, Vec<u8>)], method: CompressionMethod) -> Option<Vec<u8>> {
     let mut w = ZipWriter::new(Cursor::new(Vec::new()));
-    let method = if deflate {
-        CompressionMethod::Deflated
-    } else {
-        CompressionMethod::Stored
-    };
     let opts = FileOptions::default().compression_method(method);
     for (name, data) in members {
         w.start_file(name.as_str(), opts).ok()?;
@@ -684,7 +679,32 @@ fn mutate_npz(rng: &mut Rng, seeds: &[Vec<u8>]) -> Vec<u8> {
             _ => members[k].1 = edit_npy(rng, &members[k].1),
         }
     }
-    zip(&members, rng.one_in(2)).unwrap_or_else(|| mutate_bytes(rng, seed, other))
+    let method = *rng.pick(&[
+        CompressionMethod::Stored,
+        CompressionMethod::Deflated,
+        CompressionMethod::Bzip2,
+    ]);
+    let mut archive = zip(&members, method).unwrap_or_else(|| mutate_bytes(rng, seed, other));
+    if rng.one_in(5) {
+        // Sizes that lie: entries declared smaller (inflation must stop past the
+        // declaration) or far larger (checked against the budget before inflating).
+        let size = *rng.pick(&[0u32, 1, 64, 200, 0x7fff_ffff, u32::MAX]);
+        declare_sizes(&mut archive, size);
+    }
+    archive
+}
+
+/// Every entry's uncompressed size in `archive` (central directory and local headers)
+/// set to `size`.
+fn declare_sizes(archive: &mut [u8], size: u32) {
+    for (signature, at) in [(b"PK\x01\x02", 24), (b"PK\x03\x04", 22)] {
+        let starts: Vec<usize> = (0..archive.len().saturating_sub(at + 4))
+            .filter(|&i| &archive[i..i + 4] == signature)
+            .collect();
+        for i in starts {
+            archive[i + at..i + at + 4].copy_from_slice(&size.to_le_bytes());
+        }
+    }
 }
 
 /// Shapes for npy headers.
@@ -797,10 +817,18 @@ fn edit_npy(rng: &mut Rng, npy: &[u8]) -> Vec<u8> {
                 .to_string()
         }
         6 => {
-            // Nested brackets: a parser that recurses on them must not run out of stack.
-            let depth = *rng.pick(&[64, 1000, 20000]);
-            let nest = format!("{}1{}", "(".repeat(depth), ")".repeat(depth));
-            dict = replace_value(&dict, "'shape': ", &format!("({nest},)"));
+            // Nested brackets of every kind, closed or not: a parser that recurses on them
+            // must not run out of stack, one that backtracks must not take exponential
+            // time (npyz took 2.8 s on lists 20 deep, and hung at 32).
+            let depth = *rng.pick(&[20, 32, 64, 1000, 20000]);
+            let (open, close) = *rng.pick(&[("(", ")"), ("[", "]"), ("{'a': ", "}")]);
+            let closing = if rng.one_in(2) { close.repeat(depth) } else { String::new() };
+            let nest = format!("{}1{closing}", open.repeat(depth));
+            if rng.one_in(2) {
+                dict = replace_value(&dict, "'shape': ", &format!("({nest},)"));
+            } else {
+                dict = dict.replacen('}', &format!("'x': {nest}, }}"), 1);
+            }
         }
         7 => {
             let v = *rng.pick(&[0usize, 1, hl + 1, hl.saturating_sub(1), 0xffff, npy.len()]);
