@@ -91,7 +91,9 @@ fn render<'py>(
 #[pyfunction]
 #[pyo3(signature = (filter = None))]
 fn verify<'py>(py: Python<'py>, filter: Option<String>) -> PyResult<Bound<'py, PyAny>> {
-    let results = py.detach(|| psh::verify::run(filter.as_deref()));
+    let results = crate::interrupt::interruptible(py, |progress| {
+        psh::verify::run_with(filter.as_deref(), progress)
+    })?;
     if let (true, Some(f)) = (results.is_empty(), &filter) {
         return Err(crate::errors::bad(
             "verify filter",

@@ -181,7 +181,7 @@ impl RenderJob {
 
     /// Checks what the job writes before any work: polarizer angles finite and within
     /// [`Self::MAX_POLARIZER_DEG`] (each names a picture), an output path that is not
-    /// empty. Errors name the value.
+    /// empty and not an existing file other than a directory. Errors name the value.
     pub fn check_outputs(&self) -> Result<()> {
         if let Some(bad) = self
             .polarizers_deg
@@ -202,6 +202,13 @@ impl RenderJob {
                 "output directory",
                 "\"\"",
                 "a directory path (\".\" for the working directory)",
+            ));
+        }
+        if self.out.exists() && !self.out.is_dir() {
+            return Err(crate::Error::invalid(
+                "output directory",
+                self.out.display().to_string(),
+                "it exists and is not a directory",
             ));
         }
         Ok(())

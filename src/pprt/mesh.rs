@@ -106,7 +106,8 @@ impl Mesh {
         })
     }
 
-    /// A UV sphere of `rings` x `segments` quads (poles closed by triangles).
+    /// A UV sphere of `rings` x `segments` quads (poles closed by triangles). Errors: a
+    /// radius not positive, fewer than 2 rings or 3 segments, a mesh over the memory budget.
     pub fn sphere(center: [f64; 3], radius: f64, rings: usize, segments: usize) -> Result<Self> {
         if !(radius.is_finite() && radius > 0.0) || rings < 2 || segments < 3 {
             return Err(Error::invalid(
@@ -115,6 +116,12 @@ impl Mesh {
                 "radius > 0, at least 2 rings and 3 segments",
             ));
         }
+        // Per vertex: position and normal (48 bytes), two triangles (24).
+        crate::budget::check(
+            "sphere mesh",
+            &[rings.saturating_add(1), segments.saturating_add(1)],
+            72,
+        )?;
         let mut positions = vec![[center[0], center[1], center[2] + radius]];
         let mut normals = vec![[0.0, 0.0, 1.0]];
         for r in 1..rings {

@@ -568,8 +568,8 @@ fn mesh<'a>(m: &'a MeshSpec, files: &dyn SceneFiles) -> Result<(Result<Mesh>, &'
             // Per vertex: position and normal (48 bytes), two triangles (24), and their
             // two entries in the scene's BVH, checked before the mesh is made.
             crate::budget::check(
-                "sphere mesh",
-                &[*rings + 1, *segments + 1],
+                &format!("the sphere mesh of {}", files.origin().display()),
+                &[rings.saturating_add(1), segments.saturating_add(1)],
                 72 + 2 * super::Scene::TRIANGLE_BYTES,
             )?;
             (Mesh::sphere(*center, *radius, *rings, *segments), material)

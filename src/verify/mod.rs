@@ -120,9 +120,26 @@ impl Check {
 
 /// Runs the checks whose id contains `filter` (all when `None`).
 pub fn run(filter: Option<&str>) -> Vec<CheckResult> {
-    checks()
-        .iter()
+    run_with(filter, &crate::progress::Silent).expect("Silent never cancels")
+}
+
+/// [`run`], reporting each check done to `progress` and stopping between checks when it
+/// is cancelled ([`crate::Error::Interrupted`]).
+pub fn run_with(
+    filter: Option<&str>,
+    progress: &dyn crate::progress::Progress,
+) -> Result<Vec<CheckResult>> {
+    let selected: Vec<Check> = checks()
+        .into_iter()
         .filter(|c| filter.is_none_or(|f| c.id.contains(f)))
-        .map(Check::evaluate)
-        .collect()
+        .collect();
+    progress.start("psh verify", selected.len() as u64);
+    let mut results = Vec::with_capacity(selected.len());
+    for c in &selected {
+        progress.check_cancelled("psh verify")?;
+        results.push(c.evaluate());
+        progress.advance(1);
+    }
+    progress.finish();
+    Ok(results)
 }

@@ -273,8 +273,18 @@ fn scene_meshes_count_their_bvh() {
     .unwrap();
     refused(
         &["render", "--scene", s(&scene), "--out", s(&d)],
+        &["sphere mesh", "big.toml", "budget"],
+    );
+    // usize::MAX rings: the vertex count overflowed to 0 and passed the check, then the
+    // mesh grew until the machine killed the process (found by the fuzzer).
+    let text = std::fs::read_to_string(&scene).unwrap();
+    std::fs::write(&scene, text.replace("4000", "18446744073709551615")).unwrap();
+    refused(
+        &["render", "--scene", s(&scene), "--out", s(&d)],
         &["sphere mesh", "budget"],
     );
+    let e = psh::pprt::Mesh::sphere([0.0; 3], 1.0, usize::MAX, 3).unwrap_err();
+    assert!(e.to_string().contains("budget"), "{e}");
 }
 
 /// Outputs: devices are never replaced, an output naming an input is refused in the
@@ -328,7 +338,8 @@ fn outputs_never_touch_what_they_should_not() {
 }
 
 /// Render settings that name pictures are checked first: a polarizer angle of 1e308 is
-/// refused by value (not as a file name too long), an empty output directory refused.
+/// refused by value (not as a file name too long), an output directory that is a file
+/// refused before the render.
 #[test]
 fn render_outputs_are_checked_first() {
     let d = dir("render_out");
@@ -336,6 +347,10 @@ fn render_outputs_are_checked_first() {
         &["render", "--polarizer", "1e308", "--out", s(&d)],
         &["polarizer angle", "1e308"],
     );
+    let file = d.join("a-file");
+    std::fs::write(&file, "not a directory").unwrap();
+    let err = refused(&["render", "--out", s(&file)], &["not a directory"]);
+    assert!(!err.contains("rendered"), "{err}");
 }
 
 /// A polarizer angle of 1e308 degrees is finite: the axis (modulo 180 degrees) gives a

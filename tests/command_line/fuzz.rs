@@ -349,6 +349,8 @@ impl Seeds {
               o tet\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 0 0 2\nf 5 6 7\nf 5 6 8\nf 5 7 8\nf 6 7 8\n"
                 .to_vec(),
             b"v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf -3 -2 -1\n".to_vec(),
+            // A material library that must not be opened.
+            b"mtllib /dev/zero\nusemtl gold\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n".to_vec(),
         ];
         let env = dir.join("env.npz");
         psh::io::write_psh_npz(&env, &random(3, Codomain::Full, 3, 7).unwrap()).unwrap();
@@ -404,7 +406,8 @@ const SCENES: &[&str] = &[
      [camera]\nposition = [0.0, -4.0, 1.5]\ntarget = [0.0, 0.0, 0.0]\nfov_deg = 35.0\n\
      width = 8\nheight = 6\n\n[settings]\nl_low = 2\nl_high = 3\nrays = 4\n\n\
      [[material]]\nname = \"glass\"\ntype = \"plastic\"\nalpha = 0.15\nior = 1.5\nalbedo = 0.3\n\n\
-     [[mesh]]\ntype = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\nmaterial = \"glass\"\n",
+     [[mesh]]\ntype = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\nmaterial = \"glass\"\n\
+     rings = 6\nsegments = 12\n",
     "[environment]\ntype = \"npz\"\npath = \"env.npz\"\n\n\
      [camera]\nposition = [0.0, -4.5, 2.2]\ntarget = [0.0, 0.0, 0.5]\nfov_deg = 43.0\n\
      width = 8\nheight = 6\nroll_deg = 10.0\n\n\
