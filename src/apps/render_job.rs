@@ -19,7 +19,7 @@ use crate::pprt::transfer::precompute_planned;
 use crate::pprt::Sun;
 use crate::progress::Progress;
 use serde::Serialize;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// A render job with its scene loaded and its settings checked: what it will render.
@@ -32,6 +32,8 @@ pub struct LoadedJob<'a> {
     pub settings: TransferSettings,
     /// The scene's name for messages (the file, or "the built-in scene").
     pub name: String,
+    /// The files the scene was read from ([`crate::io::scene_inputs`]): never written.
+    pub inputs: Vec<PathBuf>,
 }
 
 /// What a render job wrote, by renderer (`report.json`, `ablation.json` or
@@ -56,11 +58,16 @@ impl RenderJob {
         self.check_outputs()?;
         let settings = self.settings()?;
         let (scene, name) = self.scene.load(settings.environment_lmax())?;
+        let inputs = match &self.scene.file {
+            Some(path) => crate::io::scene_inputs(path)?,
+            None => Vec::new(),
+        };
         Ok(LoadedJob {
             job: self,
             scene,
             settings,
             name,
+            inputs,
         })
     }
 }
@@ -68,8 +75,14 @@ impl RenderJob {
 impl LoadedJob<'_> {
     /// Renders into the job's `out` with its renderer ([`render_job`], [`ablation_job`] or
     /// [`reference_job`]), reporting long stages to `progress`: the report and the image
-    /// (none for the ablation's three).
+    /// (none for the ablation's three). Its files appear together, and never over one of
+    /// [`LoadedJob::inputs`] ([`crate::io::all_or_nothing`]).
     pub fn run(&self, progress: &dyn Progress) -> Result<(JobReport, Option<StokesImage>)> {
+        crate::io::all_or_nothing(&self.inputs, || self.render(progress))
+    }
+
+    /// [`LoadedJob::run`] inside its output group.
+    fn render(&self, progress: &dyn Progress) -> Result<(JobReport, Option<StokesImage>)> {
         let job = self.job;
         let (polarizers, out) = (&job.polarizers_deg, &job.out);
         match job.renderer {

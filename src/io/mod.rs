@@ -52,7 +52,7 @@ pub use png::{
     write_stokes_pngs, PictureNotes, UNPHYSICAL,
 };
 #[cfg(feature = "render")]
-pub use scene_file::{data_dir, load_scene, read_scene_spec, scene_settings};
+pub use scene_file::{data_dir, load_scene, read_scene_spec, scene_inputs, scene_settings};
 pub use texels::check_stokes_output;
 
 use crate::error::{Error, Result};

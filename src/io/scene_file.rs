@@ -134,6 +134,26 @@ pub fn scene_settings(path: impl AsRef<Path>) -> Result<TransferSettings> {
     Ok(read_scene_spec(path)?.settings.transfer())
 }
 
+/// The files a render of the scene file `path` reads: the file itself and those it names
+/// ([`SceneSpec::file_names`], resolved as [`load_scene`] resolves them; a map's four
+/// component files), so that no output replaces one of them.
+pub fn scene_inputs(path: impl AsRef<Path>) -> Result<Vec<PathBuf>> {
+    let path = path.as_ref();
+    let spec = read_scene_spec(path)?;
+    let files = SceneDirectory { origin: path };
+    let mut inputs = vec![path.to_path_buf()];
+    for name in spec.file_names() {
+        let resolved = files.resolve(name)?;
+        // An EXR map: a `%d` pattern or one component's file.
+        if name.contains("%d") || name.ends_with(".exr") {
+            inputs.extend(super::component_paths(&resolved)?);
+        } else {
+            inputs.push(resolved);
+        }
+    }
+    Ok(inputs)
+}
+
 /// Reads the scene file `path` and builds its scene ([`SceneSpec::build`]), the
 /// environment band-limited to `lmax` (at least the file's `l_low` and `l_high`).
 pub fn load_scene(path: impl AsRef<Path>, lmax: usize) -> Result<(Scene, TransferSettings)> {

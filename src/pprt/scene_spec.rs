@@ -338,6 +338,32 @@ fn exactly_some<'de, D: serde::Deserializer<'de>, const N: usize>(
     exactly(d).map(Some)
 }
 
+impl SceneSpec {
+    /// The files the scene names, as written: the environment's (an EXR map's pattern or
+    /// component file once), the measured materials' and the OBJ meshes'.
+    pub fn file_names(&self) -> Vec<&str> {
+        let environment = match &self.environment {
+            EnvironmentSpec::Npz { path, .. } | EnvironmentSpec::Exr { path, .. } => {
+                Some(path.as_str())
+            }
+            _ => None,
+        };
+        let materials = self.material.iter().filter_map(|m| match m {
+            MaterialSpec::Npz { path, .. } => Some(path.as_str()),
+            _ => None,
+        });
+        let meshes = self.mesh.iter().filter_map(|m| match m {
+            MeshSpec::Obj { path, .. } => Some(path.as_str()),
+            _ => None,
+        });
+        environment
+            .into_iter()
+            .chain(materials)
+            .chain(meshes)
+            .collect()
+    }
+}
+
 /// Band limit of a coefficient environment as the reference renderer's source
 /// ([`EnvironmentSource::Coefficients`]; evaluated per sample, so bounded). Maps are
 /// sampled at their own resolution ([`EnvironmentSource::Map`]).

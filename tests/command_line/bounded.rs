@@ -378,3 +378,34 @@ fn huge_polarizer_angles_are_reduced() {
     // A projector scaled by 1/2: m11 + m22 = 1/2 (c^2 + s^2 = 1).
     assert!((m[5] + m[10] - 0.5).abs() < 1e-15);
 }
+
+/// A render never writes over a file its scene reads: an environment stored under the
+/// name of the report is refused, the file kept.
+#[test]
+fn renders_never_replace_their_inputs() {
+    let d = dir("render_inputs");
+    let env = d.join("report.json");
+    let v = psh::polarized::PshVector::zeros(4, psh::polarized::Codomain::Full, 3).unwrap();
+    psh::io::write_psh_npz(&env, &v).unwrap();
+    let before = std::fs::read(&env).unwrap();
+    let scene = d.join("scene.toml");
+    std::fs::write(
+        &scene,
+        "[environment]\ntype = \"npz\"\npath = \"report.json\"\n\n\
+         [camera]\nposition = [0.0, -4.0, 1.5]\ntarget = [0.0, 0.0, 0.0]\nfov_deg = 35.0\n\
+         width = 8\nheight = 6\n\n[settings]\nl_low = 2\nl_high = 3\nrays = 4\n\n\
+         [[material]]\nname = \"m\"\ntype = \"plastic\"\nalpha = 0.15\nior = 1.5\nalbedo = 0.3\n\n\
+         [[mesh]]\ntype = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\nmaterial = \"m\"\n\
+         rings = 6\nsegments = 12\n",
+    )
+    .unwrap();
+    refused(
+        &["render", "--scene", s(&scene), "--out", s(&d)],
+        &["report.json", "does not overwrite"],
+    );
+    assert_eq!(std::fs::read(&env).unwrap(), before);
+    assert!(
+        !d.join("render_s0.png").exists(),
+        "a partial set was written"
+    );
+}
