@@ -44,6 +44,16 @@ fn read_component(path: &Path) -> Result<Component> {
     ))
 }
 
+/// The `exr` crate's error on `path`, explained where its words do not say enough.
+fn exr_error(path: &Path, e: exr::error::Error) -> crate::error::Error {
+    let mut reason = e.to_string();
+    if reason.contains("at least one channel") {
+        // The list ends at the first empty name: an empty first name empties it.
+        reason.push_str(" (the channel list is empty, or its first channel has an empty name)");
+    }
+    malformed(path, reason)
+}
+
 /// Every channel of the first layer of the EXR file `path`: its `(rows, columns)` and
 /// `(name, values)` per channel. Errors: a missing file (`missing` says what it should
 /// have been), an unreadable file, a size over the memory budget (checked on the header,
@@ -58,16 +68,8 @@ fn read_channels(path: &Path, missing: &str) -> Result<Component> {
     super::input::open_input(path)?;
     // The header's sizes are input: checked against the budget before any pixel is read
     // (a 284 KB file may claim 120000 x 90000 texels).
-    let meta = exr::meta::MetaData::read_from_file(path, false)
-        .map_err(|e| malformed(path, e.to_string()))?;
+    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| exr_error(path, e))?;
     for h in &meta.headers {
-        if h.channels
-            .list
-            .iter()
-            .any(|c| c.name.to_string().is_empty())
-        {
-            return Err(malformed(path, "a channel has an empty name"));
-        }
         crate::budget::check(
             &format!("the pixels of {}", path.display()),
             &[
@@ -78,8 +80,7 @@ fn read_channels(path: &Path, missing: &str) -> Result<Component> {
             PIXEL_BYTES,
         )?;
     }
-    let image =
-        read_first_flat_layer_from_file(path).map_err(|e| malformed(path, e.to_string()))?;
+    let image = read_first_flat_layer_from_file(path).map_err(|e| exr_error(path, e))?;
     let layer = image.layer_data;
     let size = (layer.size.height(), layer.size.width());
     let mut chans = Vec::with_capacity(layer.channel_data.list.len());
@@ -441,6 +442,29 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("none.exr"), "{e}");
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    /// A first channel with an empty name (which ends EXR's channel list) is named as the
+    /// reason, not only "at least one channel is required".
+    #[test]
+    fn an_empty_channel_name_is_named() {
+        let d = std::env::temp_dir().join(format!("psh_exr_empty_{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        let layout = MapLayout::from_image_size(4, 8).unwrap();
+        let v = crate::testing::random_psh(2, Codomain::Full, 3, 5).unwrap();
+        let map = StokesMap::reconstruct(&v, layout).unwrap();
+        write_stokes_map(&map, d.join("m_s%d.exr").to_str().unwrap()).unwrap();
+        let first = d.join("m_s0.exr");
+        let mut bytes = std::fs::read(&first).unwrap();
+        let key = b"channels\0chlist\0";
+        let at = bytes.windows(key.len()).position(|w| w == key).unwrap() + key.len() + 4;
+        bytes[at] = 0; // "B" -> ""
+        std::fs::write(&first, &bytes).unwrap();
+        let e = read_stokes_map(d.join("m_s%d.exr").to_str().unwrap())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("empty name") && e.contains("m_s0.exr"), "{e}");
         std::fs::remove_dir_all(&d).unwrap();
     }
 

@@ -84,6 +84,12 @@ mod tests {
         let text = format!("theta,k00,...\n# comment\n{}\n", good.join("\n"));
         let k = read_kernel_csv(write("good.csv", &text)).unwrap();
         assert_eq!(k.samples(), Some(9));
+        // A spreadsheet's UTF-8 byte order mark before the first row is not a value.
+        let bom = format!("\u{feff}{}\n", good.join("\n"));
+        assert_eq!(
+            read_kernel_csv(write("bom.csv", &bom)).unwrap().samples(),
+            Some(9)
+        );
         assert!((k.value(1.0).unwrap()[3][3] - (PI - 1.0)).abs() < 1e-14);
         let swapped = format!("{}\n{}\n{}\n", good[0], good[2], good[1]);
         let cases = [
