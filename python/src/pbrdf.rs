@@ -305,7 +305,9 @@ fn project_pbrdf(
     };
     let grid = grid_lmax.unwrap_or(lmax.max(2));
     let project = |field: &(dyn psh::stokes::MuellerField + Sync)| {
-        py.detach(|| psh::polarized::project_operator(field, lmax, grid, block))
+        crate::interrupt::interruptible(py, |progress| {
+            psh::polarized::project_operator_with(field, lmax, grid, block, progress)
+        })
     };
     let m = if let Ok(c) = model.cast::<Conductor>() {
         project(&c.get().model)
@@ -317,7 +319,7 @@ fn project_pbrdf(
             "expected psh.Conductor or psh.PolarizedPlastic",
         ));
     };
-    Ok(PshMatrix { m: m.py_err()? })
+    Ok(PshMatrix { m: m? })
 }
 
 /// Precomputed couplings of shadowing triple products PSH (54)-(56): visibilities of

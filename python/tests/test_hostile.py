@@ -140,3 +140,20 @@ def test_ctrl_c_interrupts_a_render(tmp_path):
     assert time.monotonic() - start < 60
     # The module still works.
     assert psh.isotropic_pairs(1)
+
+
+def test_ctrl_c_interrupts_a_projection():
+    """SIGINT during a long psh.project_pbrdf is a KeyboardInterrupt within seconds."""
+    import os
+    import signal
+    import threading
+    import time
+
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        # About a minute of work on 2 cores at lmax = 40.
+        psh.project_pbrdf(psh.PolarizedPlastic(0.3, 1.5, 0.5), 40)
+    timer.join()
+    assert time.monotonic() - start < 20

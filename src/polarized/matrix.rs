@@ -178,6 +178,18 @@ pub fn project_operator(
     grid_lmax: usize,
     block: SpinBlock22,
 ) -> Result<PshMatrix> {
+    project_operator_with(field, lmax, grid_lmax, block, &crate::progress::Silent)
+}
+
+/// [`project_operator`], reporting each output grid point done to `progress` and
+/// stopping between points when it is cancelled ([`Error::Interrupted`]).
+pub fn project_operator_with(
+    field: &(impl MuellerField + ?Sized),
+    lmax: usize,
+    grid_lmax: usize,
+    block: SpinBlock22,
+    progress: &dyn crate::progress::Progress,
+) -> Result<PshMatrix> {
     if grid_lmax < lmax.max(2) {
         return Err(Error::invalid(
             "grid_lmax",
@@ -225,7 +237,10 @@ pub fn project_operator(
     let e = |m: &MuellerMatrix, r: usize, c: usize| m.get(r, c).unwrap_or(0.0);
     // fields[j * 4 + p_i][b]: P_F[Y_{j p_i}](w_b) in the theta-phi frame at w_b.
     let mut fields = vec![vec![[0.0; 4]; np]; n * 4];
+    progress.start("projecting the operator", np as u64);
     for b in 0..np {
+        progress.check_cancelled("the projection of the operator")?;
+        progress.advance(1);
         let ms = frames
             .iter()
             .map(|fa| field.matrix_in(fa, &frames[b]))
@@ -287,6 +302,7 @@ pub fn project_operator(
             fields[j * 4 + 2][b][2] = u2[j].im;
         }
     }
+    progress.finish();
     let refs: Vec<&[[f64; 4]]> = fields.iter().map(|f| f.as_slice()).collect();
     let cols = t.project_channels(&refs, Codomain::Full)?;
     let mut out = PshMatrix::zeros(lmax)?;

@@ -46,7 +46,7 @@ pub use isotropic::{
 };
 pub use kernel::{ConvolutionKernel, KernelValue};
 pub use linear_basis::{off_block_fraction, rotation_coefficient_matrix, LinearBasis};
-pub use matrix::{project_operator, MatrixKernel, PshMatrix, SpinBlock22};
+pub use matrix::{project_operator, project_operator_with, MatrixKernel, PshMatrix, SpinBlock22};
 pub use rotation::PshRotation;
 pub use sparse::{SparsePshMatrix, Sparsity};
 pub use synthesis::reconstruct_image;
