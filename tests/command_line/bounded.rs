@@ -71,6 +71,13 @@ fn wigner_block(out: &Path) -> [&str; 10] {
     ]
 }
 
+/// A polarsh `.npz` of zero coefficients (POLAR4, band limit `lmax`) at `path`.
+fn zero_npz(path: &Path, lmax: usize, channels: usize) {
+    let v =
+        psh::polarized::PshVector::zeros(lmax, psh::polarized::Codomain::Full, channels).unwrap();
+    psh::io::write_psh_npz(path, &v).unwrap();
+}
+
 /// A version-1 `.npy` file with header text `header` and `data` after it.
 fn npy(path: &Path, header: &str, data: &[u8]) {
     let mut b = b"\x93NUMPY\x01\x00".to_vec();
@@ -159,8 +166,7 @@ fn compressed_entries_are_bounded() {
     let d = dir("npz");
     let zeros = d.join("zeros.npz");
     // 40401 x 4 zeros: 1.3 MB inflated, a few KB compressed.
-    let v = psh::polarized::PshVector::zeros(200, psh::polarized::Codomain::Full, 1).unwrap();
-    psh::io::write_psh_npz(&zeros, &v).unwrap();
+    zero_npz(&zeros, 200, 1);
     let out = d.join("out.npz");
     refused(
         &[
@@ -211,8 +217,7 @@ fn only_regular_files_are_inputs() {
         .is_ok_and(|s| s.success())
     {
         let npz = d.join("v.npz");
-        let v = psh::polarized::PshVector::zeros(2, psh::polarized::Codomain::Full, 1).unwrap();
-        psh::io::write_psh_npz(&npz, &v).unwrap();
+        zero_npz(&npz, 2, 1);
         refused(
             &[
                 "convolve",
@@ -385,8 +390,7 @@ fn huge_polarizer_angles_are_reduced() {
 fn renders_never_replace_their_inputs() {
     let d = dir("render_inputs");
     let env = d.join("report.json");
-    let v = psh::polarized::PshVector::zeros(4, psh::polarized::Codomain::Full, 3).unwrap();
-    psh::io::write_psh_npz(&env, &v).unwrap();
+    zero_npz(&env, 4, 3);
     let before = std::fs::read(&env).unwrap();
     let scene = d.join("scene.toml");
     std::fs::write(
