@@ -25,9 +25,11 @@ pub(crate) mod npz;
 #[cfg(feature = "render")]
 pub(crate) mod obj;
 pub(crate) mod output;
+pub(crate) mod pbsdf;
 pub(crate) mod png;
 #[cfg(feature = "render")]
 pub(crate) mod scene_file;
+pub(crate) mod tensor_file;
 pub(crate) mod texels;
 
 pub use exr::{
@@ -47,12 +49,14 @@ pub use obj::read_obj;
 pub use output::{
     all_or_nothing, check_output, refuse_input, remove_partial_outputs, write_file, write_text,
 };
+pub use pbsdf::{read_pbsdf, write_pbsdf};
 pub use png::{
     diverging, srgb8, write_map_pngs, write_matrix_png, write_png, write_png_with_legend,
     write_stokes_pngs, PictureNotes, UNPHYSICAL,
 };
 #[cfg(feature = "render")]
 pub use scene_file::{data_dir, load_scene, read_scene_spec, scene_inputs, scene_settings};
+pub use tensor_file::{read_tensor_file, write_tensor_file, TensorField, TensorType};
 pub use texels::check_stokes_output;
 
 use crate::error::{Error, Result};

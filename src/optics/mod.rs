@@ -10,6 +10,7 @@
 //! | [`sp_frames`] | the `s`/`p` Stokes frames of a reflection | `proofs/optics.md` §3 |
 //! | [`MicrofacetSpecular`] | polarized microfacet specular pBRDF | Walter et al. 2007 (20) |
 //! | [`Lambertian`] | depolarizing diffuse pBRDF | PF assumption A2 |
+//! | [`TabulatedPbrdf`], [`rusinkiewicz`] | measured pBRDF tables (KAIST, Mitsuba `.pbsdf`): Rusinkiewicz angles, trilinear lookup, table frames | Rusinkiewicz 1998; Baek et al. 2020; `proofs/tabulated-pbrdf-frames.md` |
 //! | [`PolarizedPlastic`], [`Conductor`] | complete models | |
 //! | [`Material`] | PF Table 1 | PF Table 1 |
 //! | [`LinearPolarizer`], [`malus_law`] | ideal linear polarizer, Malus's law | PF (8), Sec. 2.3 |
@@ -39,6 +40,7 @@ mod material;
 mod microfacet;
 mod models;
 mod polarizer;
+mod tabulated;
 
 pub use filter::{
     beta_approx, filter_angle, gamma_approx, ior_from_r0, mueller_filtered_reflection, omega,
@@ -56,3 +58,4 @@ pub use material::{Channel, Material, WAVELENGTHS_NM};
 pub use microfacet::{sp_frames, MicrofacetSpecular};
 pub use models::{Conductor, PolarizedPlastic};
 pub use polarizer::{malus_law, LinearPolarizer};
+pub use tabulated::{rusinkiewicz, rusinkiewicz_directions, TabulatedChannel, TabulatedPbrdf};

@@ -6,3 +6,4 @@ mod bounded;
 mod cli;
 mod fuzz;
 mod hardening;
+mod pbrdf;

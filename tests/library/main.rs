@@ -4,6 +4,7 @@
 //! --test library`); each file a module.
 
 mod isd;
+mod measured;
 mod mitsuba_export;
 mod plan;
 mod polygon;

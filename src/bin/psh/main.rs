@@ -6,6 +6,7 @@
 //! | `render` (the default), `bench-error`, `export-mitsuba` | [`render`], [`scene_jobs`] |
 //! | `project`, `rotate`, `reconstruct`, `convolve`, `apply` | [`coefficients`] |
 //! | `eval ...` (basis functions, rotations, transforms, optics) | [`eval`] |
+//! | `pbrdf info`, `pbrdf project` (measured tables) | [`pbrdf`] |
 //! | `filter-report`, `lights-demo`, `polygon-lights-demo`, `isd-report`, `figures` | [`reports`] |
 //! | `verify` | [`verify`] |
 
@@ -30,6 +31,7 @@ macro_rules! outln {
 mod args;
 mod coefficients;
 mod eval;
+mod pbrdf;
 mod render;
 mod reports;
 mod scene_jobs;
@@ -78,6 +80,10 @@ enum Command {
     /// a PSH coefficient vector (.npz) cut to the matrix's band limit (PSH (41)), writing the
     /// reflected field as a POLAR4 .npz; both files in polarsh's convention.
     Apply(coefficients::ApplyArgs),
+    /// Measured pBRDF tables (Mitsuba 3 .pbsdf): `info`, and `project` to isotropic PSH
+    /// coefficient matrices (ISOBI2 .npz).
+    #[command(subcommand)]
+    Pbrdf(pbrdf::Pbrdf),
     /// Render a scene by precomputed polarized radiance transfer (PSH Sec. 7), or by the
     /// reference renderer (--reference), or the ablation (--ablation): pictures and
     /// report.json into a directory (the default command: the built-in scene into
@@ -171,6 +177,7 @@ fn main() -> ExitCode {
         Some(Command::Reconstruct(a)) => coefficients::reconstruct(&a).map(Outcome::from),
         Some(Command::Convolve(a)) => coefficients::convolve(&a).map(Outcome::from),
         Some(Command::Apply(a)) => coefficients::apply(&a).map(Outcome::from),
+        Some(Command::Pbrdf(p)) => pbrdf::run(&p).map(Outcome::from),
         Some(Command::Render(a)) => render::run(&a),
         Some(Command::BenchError(a)) => scene_jobs::bench_error(&a).map(Outcome::from),
         Some(Command::ExportMitsuba(a)) => scene_jobs::export_mitsuba(&a).map(Outcome::from),

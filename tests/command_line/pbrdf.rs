@@ -1,0 +1,90 @@
+//! `psh pbrdf`: a measured table (a `.pbsdf` written by psh from its plastic model)
+//! described and projected, and bad tables refused.
+
+use std::path::Path;
+use std::process::Command;
+
+fn psh(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_psh"))
+        .args(args)
+        .output()
+        .expect("run psh")
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+#[test]
+fn a_table_is_described_and_projected() {
+    use std::f64::consts::{FRAC_PI_2, PI};
+    let d = std::env::temp_dir().join(format!("psh_pbrdf_cli_{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let line = |n: usize, lo: f64, hi: f64| -> Vec<f64> {
+        (0..n)
+            .map(|k| lo + (hi - lo) * k as f64 / (n - 1) as f64)
+            .collect()
+    };
+    let model = psh::optics::PolarizedPlastic::new(0.4, 1.5, 0.3).unwrap();
+    let table = psh::optics::TabulatedPbrdf::sample(
+        &[&model, &model],
+        line(37, -PI, PI),
+        line(10, 0.0, FRAC_PI_2),
+        line(10, 0.0, FRAC_PI_2),
+        vec![500.0, 600.0],
+    )
+    .unwrap();
+    let path = d.join("plastic.pbsdf");
+    psh::io::write_pbsdf(&path, &table).unwrap();
+    let out = psh(&["pbrdf", "info", s(&path)]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let info: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(info["phi_d"]["samples"], 37);
+    assert_eq!(info["wavelengths_nm"], serde_json::json!([500.0, 600.0]));
+    assert_eq!(info["invalid_fraction"], 0.0);
+    let npz = d.join("plastic.npz");
+    let out = psh(&["pbrdf", "project", s(&path), "--lmax", "3", "-o", s(&npz)]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let m = psh::io::read_isotropic_npz(&npz).unwrap();
+    assert_eq!((m.lmax(), m.channels()), (3, 2));
+    // The command's matrix is the library's projection of the table it read.
+    let read = psh::io::read_pbsdf(&path).unwrap();
+    let dense = psh::polarized::project_operator(
+        &read.channel(1).unwrap(),
+        3,
+        3,
+        psh::polarized::SpinBlock22::ComplexPair,
+    )
+    .unwrap();
+    let want = psh::polarized::IsotropicMatrix::from_dense(&dense, 1e-6).unwrap();
+    // The file holds polarsh's convention (travel -> travel): converted back first.
+    let got = m.with_input(want.input()).unwrap().to_dense(1).unwrap();
+    let back = want.to_dense(0).unwrap();
+    assert_eq!((got.input(), got.output()), (back.input(), back.output()));
+    let diff = got
+        .data()
+        .iter()
+        .zip(back.data())
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(diff < 1e-12, "{diff:e}");
+    // A truncated table and an output over the input are refused, naming them.
+    let bytes = std::fs::read(&path).unwrap();
+    let cut = d.join("cut.pbsdf");
+    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+    let out = psh(&["pbrdf", "project", s(&cut), "--lmax", "3", "-o", s(&npz)]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("cut.pbsdf") && err.contains("'M'"), "{err}");
+    let out = psh(&["pbrdf", "project", s(&path), "--lmax", "3", "-o", s(&path)]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("does not overwrite"));
+    std::fs::remove_dir_all(&d).unwrap();
+}
