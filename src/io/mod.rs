@@ -18,6 +18,7 @@ pub(crate) mod exr;
 pub(crate) mod input;
 pub(crate) mod kernel_csv;
 pub(crate) mod legend;
+pub(crate) mod mat5;
 #[cfg(feature = "render")]
 pub(crate) mod mitsuba;
 pub(crate) mod npy_header;
@@ -38,6 +39,7 @@ pub use exr::{
 };
 pub use kernel_csv::read_kernel_csv;
 pub use legend::{tick_label, ColourBar, Legend, LEGEND_MIN_WIDTH};
+pub use mat5::{read_mat5, MatArray, MatFile};
 #[cfg(feature = "render")]
 pub use mitsuba::{export_mitsuba, MitsubaExport, ENVMAP_ROWS};
 pub use npz::{

@@ -65,6 +65,14 @@ pub fn checks() -> Vec<Check> {
             run: reciprocity,
         },
         Check {
+            id: "pbrdf.kaist_frames",
+            source: "KAIST pBRDF dataset (Baek et al. 2020) pbrdf_table_info_dsamp5.mat",
+            description: "the dataset's per-sample Stokes frames against psh's reading of a measured table: at every sample, the directions psh derives from (phi_d, theta_d, theta_h), turned so that phi_o = 0 as the file stores them, give the file's z axes z_i = -w_i, z_o = w_o, and its x axes are +-normalize(w_i x w_o), the x of sp_frames (max |difference| over 26,275 z pairs and 23,577 x pairs, float32 storage); skipped without the shared data",
+            tolerance: 1e-6,
+            proof: Some("proofs/tabulated-pbrdf-frames.md"),
+            run: kaist_frames,
+        },
+        Check {
             id: "pbrdf.passivity_analytic",
             source: "PSH (38); energy conservation",
             description: "largest directional albedo int f_00 cos(theta_o) dw_o over incidence angles 0..89.5 deg (gold and aluminum conductors, plastic; 64 x 128 quadrature): must be <= 1",
@@ -326,6 +334,66 @@ fn reciprocity() -> Result<f64> {
             let scale = forward.abs().max();
             worst = worst.max((reverse - want).abs().max() / scale);
         }
+    }
+    Ok(worst)
+}
+
+fn kaist_frames() -> Result<f64> {
+    use nalgebra::{Rotation3, Vector3};
+    let path = shared_file("pbrdf_table_info_dsamp5.mat")?;
+    let file = crate::io::read_mat5(&path)?;
+    let axis = |n: &str| file.get(&path, n).map(|a| a.values.clone());
+    let (phi_d, theta_d, theta_h) = (axis("phi_d")?, axis("theta_d")?, axis("theta_h")?);
+    let (xi, xo) = (file.get(&path, "xyzi_T")?, file.get(&path, "xyzo_T")?);
+    let want = [phi_d.len(), theta_d.len(), theta_h.len(), 3, 3];
+    if xi.dims != want || xo.dims != want {
+        return Err(Error::invalid(
+            "KAIST frames",
+            format!("{:?}", xi.dims),
+            format!("{want:?}"),
+        ));
+    }
+    let (nd, nh) = (theta_d.len(), theta_h.len());
+    let row = |a: &crate::io::MatArray, p: usize, d: usize, h: usize, r: usize| {
+        let at = ((((p * nd) + d) * nh + h) * 3 + r) * 3;
+        Vector3::new(a.values[at], a.values[at + 1], a.values[at + 2])
+    };
+    let finite = |v: &Vector3<f64>| v.iter().all(|x| x.is_finite());
+    let (mut pairs, mut worst) = (0usize, 0.0f64);
+    for (p, &pd) in phi_d.iter().enumerate() {
+        for (d, &td) in theta_d.iter().enumerate() {
+            for (h, &th) in theta_h.iter().enumerate() {
+                let (i, o) = crate::optics::rusinkiewicz_directions(pd, td, th);
+                // Turned about z so that w_o has azimuth 0 (undefined when w_o = n).
+                if o[0].hypot(o[1]) < 1e-6 {
+                    continue;
+                }
+                let turn = Rotation3::from_axis_angle(&Vector3::z_axis(), -o[1].atan2(o[0]));
+                let (i, o) = (turn * i, turn * o);
+                let (zi, zo) = (row(xi, p, d, h, 2), row(xo, p, d, h, 2));
+                if finite(&zi) && finite(&zo) {
+                    worst = worst.max((zi + i).amax()).max((zo - o).amax());
+                    pairs += 1;
+                }
+                let (x_in, x_out) = (row(xi, p, d, h, 0), row(xo, p, d, h, 0));
+                let c = i.cross(&o);
+                if c.norm() > 1e-3 && finite(&x_in) && finite(&x_out) {
+                    // Each frame's own sign of x (irrelevant to Stokes components).
+                    let s = c.normalize();
+                    worst = worst
+                        .max(1.0 - x_in.dot(&s).abs())
+                        .max(1.0 - x_out.dot(&s).abs());
+                    pairs += 1;
+                }
+            }
+        }
+    }
+    if pairs < 40_000 {
+        return Err(Error::invalid(
+            "KAIST frames",
+            format!("{pairs} comparable frames"),
+            "at least 40,000 (26,275 z and 23,577 x pairs in the shipped file)",
+        ));
     }
     Ok(worst)
 }

@@ -286,6 +286,8 @@ struct Seeds {
     scenes: Vec<Vec<u8>>,
     /// The files scene seeds refer to, placed next to each case.
     scene_files: Vec<(String, Vec<u8>)>,
+    /// Measured pBRDF tables (`.pbsdf`): a sampled plastic, and one with invalid samples.
+    tables: Vec<Vec<u8>>,
 }
 
 /// Isotropic matrices of `channels` channels to `lmax`, entries outside PSH (31) zero.
@@ -364,6 +366,42 @@ impl Seeds {
         for (p, bytes) in maps[1].iter().enumerate() {
             scene_files.push((format!("env_s{p}.exr"), bytes.clone()));
         }
+        let tables = [false, true]
+            .iter()
+            .map(|&invalid| {
+                let line = |n: usize, lo: f64, hi: f64| -> Vec<f64> {
+                    (0..n)
+                        .map(|k| lo + (hi - lo) * k as f64 / (n - 1) as f64)
+                        .collect()
+                };
+                let model = psh::optics::PolarizedPlastic::new(0.4, 1.5, 0.3).unwrap();
+                let t = psh::optics::TabulatedPbrdf::sample(
+                    &[&model, &model],
+                    line(5, -std::f64::consts::PI, std::f64::consts::PI),
+                    line(4, 0.0, std::f64::consts::FRAC_PI_2),
+                    line(3, 0.0, std::f64::consts::FRAC_PI_2),
+                    vec![450.0, 650.0],
+                )
+                .unwrap();
+                let t = if invalid {
+                    let mut v = t.values().to_vec();
+                    v[..32].fill(f64::NAN);
+                    psh::optics::TabulatedPbrdf::new(
+                        t.phi_d().to_vec(),
+                        t.theta_d().to_vec(),
+                        t.theta_h().to_vec(),
+                        t.wavelengths_nm().to_vec(),
+                        v,
+                    )
+                    .unwrap()
+                } else {
+                    t
+                };
+                let p = dir.join(format!("table{}.pbsdf", u8::from(invalid)));
+                psh::io::write_pbsdf(&p, &t).unwrap();
+                read(&p)
+            })
+            .collect();
         Seeds {
             vectors,
             matrices,
@@ -372,6 +410,7 @@ impl Seeds {
             meshes,
             scenes: SCENES.iter().map(|s| s.as_bytes().to_vec()).collect(),
             scene_files,
+            tables,
         }
     }
 }
@@ -488,6 +527,13 @@ fn readers() -> Vec<Reader> {
             read: read_mesh,
         },
         Reader {
+            name: "pbsdf",
+            cases: 1500,
+            seed: 7,
+            files: |s, rng| vec![("case.pbsdf".into(), mutate_table(rng, &s.tables))],
+            read: read_table,
+        },
+        Reader {
             name: "scene-toml",
             cases: 2000,
             seed: 6,
@@ -519,6 +565,25 @@ fn read_map(p: &Path) -> psh::Result<Vec<f64>> {
         .iter()
         .flat_map(|ch| (0..ch.len()).filter(on_sphere).flat_map(|i| ch[i]))
         .collect())
+}
+
+/// A measured table's Mueller matrices at a few direction pairs, every wavelength
+/// (finite by construction: invalid cells read as zero).
+fn read_table(p: &Path) -> psh::Result<Vec<f64>> {
+    use psh::stokes::MuellerField;
+    let t = psh::io::read_pbsdf(p)?;
+    let mut out = Vec::new();
+    for k in 0..t.wavelengths_nm().len() {
+        let c = t.channel(k)?;
+        for (wi, wo) in [
+            ([0.0, 0.6, 0.8], [0.6, 0.0, 0.8]),
+            ([0.0, 0.0, 1.0], [0.0, 0.0, 1.0]),
+            ([0.8, 0.0, 0.6], [-0.8, 0.0, 0.6]),
+        ] {
+            out.extend(c.transform(wi, wo)?.matrix().matrix().iter());
+        }
+    }
+    Ok(out)
 }
 
 fn read_kernel(p: &Path) -> psh::Result<Vec<f64>> {
@@ -612,6 +677,14 @@ fn mutate_bytes(rng: &mut Rng, seed: &[u8], other: &[u8]) -> Vec<u8> {
         }
     }
     b
+}
+
+/// A mutated `.pbsdf`: generic byte mutations of a seed (headers, offsets, shapes and
+/// values alike).
+fn mutate_table(rng: &mut Rng, seeds: &[Vec<u8>]) -> Vec<u8> {
+    let seed = rng.pick(seeds);
+    let other = rng.pick(seeds);
+    mutate_bytes(rng, seed, other)
 }
 
 /// A range `(start, len)` of at most 64 bytes in `0..n`, `n > 0`.

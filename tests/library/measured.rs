@@ -101,3 +101,15 @@ fn the_projection_of_a_table_converges_to_the_model_s() {
     assert!(fine < coarse / 1.5, "coarse {coarse:e}, fine {fine:e}");
     assert!(fine < 0.05, "fine {fine:e}");
 }
+
+/// The KAIST dataset's own per-sample Stokes frames against psh's reading of a table
+/// (`psh verify`'s `pbrdf.kaist_frames`; skipped without the shared data): psh's angles
+/// and the table frames of `proofs/tabulated-pbrdf-frames.md` are the dataset's.
+#[test]
+fn kaist_frames_are_psh_s_table_frames() {
+    let results = psh::verify::run(Some("pbrdf.kaist_frames"));
+    assert_eq!(results.len(), 1);
+    let r = &results[0];
+    eprintln!("{}: {:e} (skipped: {:?})", r.id, r.max_error, r.skipped);
+    assert!(r.passed, "{r:?}");
+}
