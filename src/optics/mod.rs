@@ -58,4 +58,7 @@ pub use material::{Channel, Material, WAVELENGTHS_NM};
 pub use microfacet::{sp_frames, MicrofacetSpecular};
 pub use models::{Conductor, PolarizedPlastic};
 pub use polarizer::{malus_law, LinearPolarizer};
-pub use tabulated::{rusinkiewicz, rusinkiewicz_directions, TabulatedChannel, TabulatedPbrdf};
+pub use tabulated::{
+    rgb_from_bands, rusinkiewicz, rusinkiewicz_directions, TabulatedChannel, TabulatedPbrdf,
+    KAIST_BANDS_NM,
+};

@@ -132,6 +132,40 @@ impl TabulatedPbrdf {
         matrices.filter(|m| m.iter().any(|v| v.is_nan())).count() as f64 / n as f64
     }
 
+    /// The table in linear sRGB (three channels), from the KAIST dataset's five bands
+    /// 450, 500, 550, 600, 650 nm as the dataset's own code converts them (Baek et al.
+    /// 2020, `spec2rgb.m`; polarsh `polar.py`): each Mueller entry is weighted by D65 times
+    /// the CIE 1931 2-degree colour-matching functions at the bands (CIE 15:2004 tables),
+    /// mapped from XYZ to linear sRGB (IEC 61966-2-1), each channel normalized so that a
+    /// spectrally flat reflectance of 1 gives 1 ([`rgb_from_bands`]). NaN samples stay
+    /// NaN. The channels R, G, B are labelled by the approximate dominant wavelengths of
+    /// the sRGB primaries, 611, 549 and 464 nm (labels only). Error: other wavelengths.
+    pub fn to_rgb(&self) -> Result<Self> {
+        if self.wavelengths_nm != KAIST_BANDS_NM {
+            return Err(Error::invalid(
+                "wavelengths",
+                format!("{:?}", self.wavelengths_nm),
+                format!("the KAIST bands {KAIST_BANDS_NM:?} nm for RGB"),
+            ));
+        }
+        let w = rgb_from_bands();
+        let mut values = Vec::with_capacity(self.values.len() / 5 * 3);
+        for sample in self.values.chunks_exact(5 * 16) {
+            for row in &w {
+                values.extend(
+                    (0..16).map(|e| (0..5).map(|b| row[b] * sample[b * 16 + e]).sum::<f64>()),
+                );
+            }
+        }
+        Self::new(
+            self.phi_d.clone(),
+            self.theta_d.clone(),
+            self.theta_h.clone(),
+            vec![611.0, 549.0, 464.0],
+            values,
+        )
+    }
+
     /// The Mueller field of wavelength `k`. Error: `k` out of range.
     pub fn channel(&self, k: usize) -> Result<TabulatedChannel<'_>> {
         if k >= self.wavelengths_nm.len() {
@@ -209,6 +243,42 @@ impl TabulatedPbrdf {
         }
         out
     }
+}
+
+/// The KAIST dataset's bands (nm).
+pub const KAIST_BANDS_NM: [f64; 5] = [450.0, 500.0, 550.0, 600.0, 650.0];
+
+/// CIE D65 relative spectral power at [`KAIST_BANDS_NM`] (CIE 15:2004, Table T.1, as
+/// the dataset's code stores it, in single precision).
+const D65: [f64; 5] = [117.008003, 109.353996, 104.045998, 90.006203, 80.026802];
+
+/// CIE 1931 2-degree colour-matching functions `(x, y, z)` at [`KAIST_BANDS_NM`]
+/// (CIE 15:2004, Table T.4; `z(450)` as the dataset's code has it).
+const CMF: [[f64; 3]; 5] = [
+    [0.3362, 0.0380, 1.77211],
+    [0.0049, 0.3230, 0.2720],
+    [0.4334499, 0.994950, 0.008750],
+    [1.0622, 0.6310, 0.0008],
+    [0.2835, 0.1070, 0.0],
+];
+
+/// XYZ to linear sRGB (IEC 61966-2-1).
+const XYZ_TO_SRGB: [[f64; 3]; 3] = [
+    [3.2406, -1.5372, -0.4986],
+    [-0.9689, 1.8758, 0.0415],
+    [0.0557, -0.2040, 1.0570],
+];
+
+/// The weights `W[c][b]` of [`TabulatedPbrdf::to_rgb`]: `S = XYZ_TO_SRGB CMF^T`,
+/// `W[c][b] = S[c][b] D65[b] / sum_b' S[c][b'] D65[b']` (each row sums to 1).
+pub fn rgb_from_bands() -> [[f64; 5]; 3] {
+    std::array::from_fn(|c| {
+        let s: [f64; 5] = std::array::from_fn(|b| {
+            (0..3).map(|k| XYZ_TO_SRGB[c][k] * CMF[b][k]).sum::<f64>() * D65[b]
+        });
+        let total: f64 = s.iter().sum();
+        s.map(|x| x / total)
+    })
 }
 
 /// Checks a table axis: at least one sample, finite, strictly increasing, within
@@ -409,6 +479,41 @@ mod tests {
         assert_eq!(table.lookup(0, -PI + 0.1, 0.1, 0.1), Matrix4::zeros());
         assert!(table.lookup(0, 0.1, 1.0, 0.1)[(0, 0)] > 0.0);
         assert!((table.invalid_fraction() - 1.0 / 18.0).abs() < 1e-15);
+    }
+
+    /// The RGB weights are polarsh's (its `polar.py` conversion evaluated in Python:
+    /// R = [0.078712, -0.307345, -0.061290, 1.014646, 0.275276] etc.), and a spectrally
+    /// flat table gives the same matrices in every channel.
+    #[test]
+    fn rgb_is_the_dataset_s_conversion() {
+        let w = rgb_from_bands();
+        let polarsh = [
+            [0.078712, -0.307345, -0.061290, 1.014646, 0.275276],
+            [-0.103612, 0.327786, 0.736739, 0.068061, -0.028974],
+            [1.000216, 0.110088, -0.080052, -0.028060, -0.002192],
+        ];
+        for (a, b) in w.iter().flatten().zip(polarsh.iter().flatten()) {
+            assert!((a - b).abs() < 2e-6, "{a} {b}");
+        }
+        let flat: Vec<f64> = (0..2 * 5 * 16)
+            .map(|k| ((k % 16) as f64 - 4.0) * 0.1)
+            .collect();
+        let t = TabulatedPbrdf::new(
+            vec![0.0],
+            vec![0.1, 0.2],
+            vec![0.0],
+            KAIST_BANDS_NM.to_vec(),
+            flat,
+        )
+        .unwrap();
+        let rgb = t.to_rgb().unwrap();
+        assert_eq!(rgb.wavelengths_nm().len(), 3);
+        for (k, v) in rgb.values().iter().enumerate() {
+            assert!((v - ((k % 16) as f64 - 4.0) * 0.1).abs() < 1e-12);
+        }
+        let other =
+            TabulatedPbrdf::new(vec![0.0], vec![0.0], vec![0.0], vec![500.0], vec![0.0; 16]);
+        assert!(other.unwrap().to_rgb().is_err());
     }
 
     /// Bad axes, counts and infinite values are errors naming them.

@@ -88,3 +88,53 @@ fn a_table_is_described_and_projected() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("does not overwrite"));
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+/// `--rgb`: a spectrally flat table on the KAIST bands gives R, G and B equal to the
+/// matrix of any one band (the dataset's weights sum to 1 per channel).
+#[test]
+fn rgb_channels_of_a_flat_table() {
+    use std::f64::consts::{FRAC_PI_2, PI};
+    let d = std::env::temp_dir().join(format!("psh_pbrdf_rgb_{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let line = |n: usize, lo: f64, hi: f64| -> Vec<f64> {
+        (0..n)
+            .map(|k| lo + (hi - lo) * k as f64 / (n - 1) as f64)
+            .collect()
+    };
+    let model = psh::optics::PolarizedPlastic::new(0.4, 1.5, 0.3).unwrap();
+    let bands = psh::optics::KAIST_BANDS_NM.to_vec();
+    let fields: Vec<&dyn psh::stokes::MuellerField> = vec![&model; 5];
+    let table = psh::optics::TabulatedPbrdf::sample(
+        &fields,
+        line(19, -PI, PI),
+        line(7, 0.0, FRAC_PI_2),
+        line(7, 0.0, FRAC_PI_2),
+        bands,
+    )
+    .unwrap();
+    let path = d.join("flat.pbsdf");
+    psh::io::write_pbsdf(&path, &table).unwrap();
+    let (bands_npz, rgb_npz) = (d.join("bands.npz"), d.join("rgb.npz"));
+    for (out, extra) in [(&bands_npz, None), (&rgb_npz, Some("--rgb"))] {
+        let mut args = vec!["pbrdf", "project", s(&path), "--lmax", "2", "-o", s(out)];
+        args.extend(extra);
+        let o = psh(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let bands = psh::io::read_isotropic_npz(&bands_npz).unwrap();
+    let rgb = psh::io::read_isotropic_npz(&rgb_npz).unwrap();
+    assert_eq!((bands.channels(), rgb.channels()), (5, 3));
+    let one = bands.to_dense(2).unwrap();
+    for c in 0..3 {
+        let got = rgb.to_dense(c).unwrap();
+        let diff = got
+            .data()
+            .iter()
+            .zip(one.data())
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        // float32 storage of the table, weighted sums of five bands.
+        assert!(diff < 1e-6, "channel {c}: {diff:e}");
+    }
+    std::fs::remove_dir_all(&d).unwrap();
+}

@@ -13,8 +13,8 @@ pub enum Pbrdf {
     /// wavelengths, the fraction of invalid (NaN) samples; printing JSON.
     Info(InfoArgs),
     /// Project a measured table (Mitsuba 3 .pbsdf) to isotropic PSH coefficient matrices
-    /// (PSH (40), (52); one channel per wavelength), written as an ISOBI2 .npz in
-    /// polarsh's convention.
+    /// (PSH (40), (52); one channel per wavelength, or R, G, B with --rgb), written as an
+    /// ISOBI2 .npz in polarsh's convention.
     Project(ProjectArgs),
 }
 
@@ -34,6 +34,10 @@ pub struct ProjectArgs {
     /// Band of the exact quadrature grid (default max(lmax, 2)).
     #[arg(long)]
     grid_lmax: Option<usize>,
+    /// Convert the KAIST dataset's five bands (450..650 nm) to linear sRGB first, as the
+    /// dataset's own code does: three channels R, G, B.
+    #[arg(long)]
+    rgb: bool,
     /// Largest isotropy defect accepted (relative to the largest entry).
     #[arg(long, default_value_t = 1e-6)]
     tolerance: f64,
@@ -69,6 +73,7 @@ fn info(a: &InfoArgs) -> psh::Result<serde_json::Value> {
 
 fn project(a: &ProjectArgs) -> psh::Result<serde_json::Value> {
     let t = psh::io::read_pbsdf(&a.input)?;
+    let t = if a.rgb { t.to_rgb()? } else { t };
     let grid = a.grid_lmax.unwrap_or(a.lmax.max(2));
     let start = std::time::Instant::now();
     let channels = (0..t.wavelengths_nm().len())
