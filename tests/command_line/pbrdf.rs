@@ -15,16 +15,18 @@ fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
+/// `n` samples from `lo` to `hi`, both included.
+fn line(n: usize, lo: f64, hi: f64) -> Vec<f64> {
+    (0..n)
+        .map(|k| lo + (hi - lo) * k as f64 / (n - 1) as f64)
+        .collect()
+}
+
 #[test]
 fn a_table_is_described_and_projected() {
     use std::f64::consts::{FRAC_PI_2, PI};
     let d = std::env::temp_dir().join(format!("psh_pbrdf_cli_{}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
-    let line = |n: usize, lo: f64, hi: f64| -> Vec<f64> {
-        (0..n)
-            .map(|k| lo + (hi - lo) * k as f64 / (n - 1) as f64)
-            .collect()
-    };
     let model = psh::optics::PolarizedPlastic::new(0.4, 1.5, 0.3).unwrap();
     let table = psh::optics::TabulatedPbrdf::sample(
         &[&model, &model],
@@ -96,11 +98,6 @@ fn rgb_channels_of_a_flat_table() {
     use std::f64::consts::{FRAC_PI_2, PI};
     let d = std::env::temp_dir().join(format!("psh_pbrdf_rgb_{}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
-    let line = |n: usize, lo: f64, hi: f64| -> Vec<f64> {
-        (0..n)
-            .map(|k| lo + (hi - lo) * k as f64 / (n - 1) as f64)
-            .collect()
-    };
     let model = psh::optics::PolarizedPlastic::new(0.4, 1.5, 0.3).unwrap();
     let bands = psh::optics::KAIST_BANDS_NM.to_vec();
     let fields: Vec<&dyn psh::stokes::MuellerField> = vec![&model; 5];
