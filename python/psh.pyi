@@ -241,6 +241,25 @@ def project_pbrdf(
 ) -> PshMatrix:
     """PSH (40) of a model (surface normal +z)."""
 
+class MeasuredPbrdf:
+    """A measured pBRDF table (Mueller matrices on a Rusinkiewicz grid per wavelength)."""
+
+    @property
+    def wavelengths(self) -> list[float]: ...
+    @property
+    def shape(self) -> Tuple[int, int, int]: ...
+    @property
+    def invalid_fraction(self) -> float: ...
+    def to_rgb(self) -> MeasuredPbrdf:
+        """The KAIST bands 450..650 nm to linear sRGB, as the dataset's code converts them."""
+    def project(
+        self, lmax: int, grid_lmax: Optional[int] = None, tolerance: float = 1e-6
+    ) -> IsotropicMatrix:
+        """PSH (40), (52): one isotropic matrix per channel."""
+
+def read_measured_pbrdf(path: Path) -> MeasuredPbrdf:
+    """A Mitsuba 3 ``.pbsdf`` table."""
+
 class TripleTable:
     """Couplings of PSH (54)-(56)."""
 

@@ -10,6 +10,7 @@ mod harmonics;
 mod interrupt;
 mod jobs;
 mod maps;
+mod measured;
 mod pbrdf;
 mod rotation;
 mod vector;
@@ -33,6 +34,7 @@ fn psh(m: &Bound<'_, PyModule>) -> PyResult<()> {
     harmonics::register(m)?;
     maps::register(m)?;
     pbrdf::register(m)?;
+    measured::register(m)?;
     jobs::register(m)?;
     Ok(())
 }

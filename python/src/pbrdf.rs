@@ -177,7 +177,7 @@ impl PshMatrix {
 /// colour channel.
 #[pyclass(module = "psh", frozen)]
 pub struct IsotropicMatrix {
-    m: psh::polarized::IsotropicMatrix,
+    pub(crate) m: psh::polarized::IsotropicMatrix,
 }
 
 #[pymethods]

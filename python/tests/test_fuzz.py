@@ -40,10 +40,19 @@ def _files():
     (TMP / "garbage.npz").write_bytes(b"PK\x03\x04" + bytes(range(256)) * 4)
     (TMP / "dir").mkdir(exist_ok=True)
     (TMP / "k.csv").write_text("\ufeff0,1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1\n3.141592653589793," + ",".join(["0"] * 16) + "\n")
+    from support import write_tensor_file
+
+    axis = np.linspace(0, np.pi / 2, 3, dtype=np.float32)[None, :]
+    write_tensor_file(TMP / "t.pbsdf", [
+        ("phi_d", np.linspace(-np.pi, np.pi, 3, dtype=np.float32)[None, :]),
+        ("theta_d", axis), ("theta_h", axis),
+        ("wvls", np.array([450, 500, 550, 600, 650], dtype=np.uint16)),
+        ("M", np.full((3, 3, 3, 5, 4, 4), 0.01, dtype=np.float32)),
+    ])
     fifo = TMP / "fifo"
     if hasattr(os, "mkfifo") and not fifo.exists():
         os.mkfifo(fifo)
-    return [str(TMP / n) for n in ["v.npz", "empty.npz", "garbage.npz", "dir", "k.csv", "fifo",
+    return [str(TMP / n) for n in ["v.npz", "t.pbsdf", "empty.npz", "garbage.npz", "dir", "k.csv", "fifo",
                                    "missing.npz", "out.npz", "out_s%d.exr", "m_s%d.exr"]] + [
         "/dev/zero", "/", "", "/nonexistent/x.npz"]
 
@@ -94,6 +103,7 @@ SCALAR = psh.PshVector(np.ones((1, 9, 1)) * 0.1, "SCALAR")
 MATRIX = psh.project_pbrdf(psh.PolarizedPlastic(0.3, 1.5, 0.5), 2)
 ISO = psh.IsotropicMatrix.from_dense(MATRIX, 1e-10)
 TABLE = psh.TripleTable(2, 2)
+MEASURED = psh.read_measured_pbrdf(TMP / "t.pbsdf")
 KERNEL = psh.ConvolutionKernel.linear_zenith()
 COEFFS = KERNEL.coefficients(2)
 OBJECTS = [ROTATION, VECTOR, SCALAR, MATRIX, ISO, TABLE, KERNEL, COEFFS,
@@ -224,6 +234,9 @@ TARGETS = {
     "TripleTable.transfer": (TABLE.transfer, "v"),
     "TripleTable.shadow": (TABLE.shadow, "vv"),
     "visibility_transfer": (psh.visibility_transfer, "vi"),
+    "read_measured_pbrdf": (psh.read_measured_pbrdf, "p"),
+    "MeasuredPbrdf.to_rgb": (MEASURED.to_rgb, ""),
+    "MeasuredPbrdf.project": (MEASURED.project, "iif"),
 }
 
 assert EXAMPLES * len(TARGETS) >= 5000
