@@ -45,7 +45,8 @@ impl MeasuredPbrdf {
     }
 
     /// Isotropic PSH matrices (PSH (40), (52)) of band limit `lmax`, one channel per
-    /// wavelength, on the exact grid of band `grid_lmax` (default `max(lmax, 2)`);
+    /// wavelength, on the exact grid of band `grid_lmax` (default `max(lmax, 2)` rounded up
+    /// to odd: an even number of rings, none on the horizon, where a pBRDF steps to zero);
     /// `tolerance` the largest isotropy defect accepted. Ctrl-C interrupts it.
     #[pyo3(signature = (lmax, grid_lmax = None, tolerance = 1e-6))]
     fn project(
@@ -55,7 +56,7 @@ impl MeasuredPbrdf {
         grid_lmax: Option<usize>,
         tolerance: f64,
     ) -> PyResult<IsotropicMatrix> {
-        let grid = grid_lmax.unwrap_or(lmax.max(2));
+        let grid = grid_lmax.unwrap_or(lmax.max(2) | 1);
         let m = crate::interrupt::interruptible(py, |progress| {
             let channels = (0..self.t.wavelengths_nm().len())
                 .map(|k| {

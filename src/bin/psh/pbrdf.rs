@@ -31,7 +31,8 @@ pub struct ProjectArgs {
     /// Band limit of the matrices.
     #[arg(long)]
     lmax: usize,
-    /// Band of the exact quadrature grid (default max(lmax, 2)).
+    /// Band of the exact quadrature grid (default max(lmax, 2) rounded up to odd: an even
+    /// number of rings, none on the horizon, where a pBRDF steps to zero).
     #[arg(long)]
     grid_lmax: Option<usize>,
     /// Convert the KAIST dataset's five bands (450..650 nm) to linear sRGB first, as the
@@ -74,7 +75,7 @@ fn info(a: &InfoArgs) -> psh::Result<serde_json::Value> {
 fn project(a: &ProjectArgs) -> psh::Result<serde_json::Value> {
     let t = psh::io::read_pbsdf(&a.input)?;
     let t = if a.rgb { t.to_rgb()? } else { t };
-    let grid = a.grid_lmax.unwrap_or(a.lmax.max(2));
+    let grid = a.grid_lmax.unwrap_or(a.lmax.max(2) | 1);
     let start = std::time::Instant::now();
     let channels = (0..t.wavelengths_nm().len())
         .map(|k| {
