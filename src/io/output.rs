@@ -15,7 +15,9 @@
 //! **Temporary files** are removed when a write fails, by
 //! [`remove_partial_outputs`] (the command line calls it on SIGINT and SIGTERM), and,
 //! left by a process that was killed, on the next write into their directory by any psh
-//! process (a `.psh-PID-N.partial` whose process is gone).
+//! process (a `.psh-PID-N.partial` whose process is gone from this machine's `/proc`: a
+//! directory shared with other machines may hold their writers' files, which this rule
+//! would remove; write such outputs to a local directory).
 
 use super::io_error;
 use crate::error::{clip, Error, Result};

@@ -138,8 +138,8 @@ impl TabulatedPbrdf {
     /// the CIE 1931 2-degree colour-matching functions at the bands (CIE 15:2004 tables),
     /// mapped from XYZ to linear sRGB (IEC 61966-2-1), each channel normalized so that a
     /// spectrally flat reflectance of 1 gives 1 ([`rgb_from_bands`]). NaN samples stay
-    /// NaN. The channels R, G, B are labelled by the approximate dominant wavelengths of
-    /// the sRGB primaries, 611, 549 and 464 nm (labels only). Error: other wavelengths.
+    /// NaN. The channels R, G, B carry the nominal labels 611, 549 and 464 nm (names for
+    /// the channels only: no computation uses them). Error: other wavelengths.
     pub fn to_rgb(&self) -> Result<Self> {
         if self.wavelengths_nm != KAIST_BANDS_NM {
             return Err(Error::invalid(
