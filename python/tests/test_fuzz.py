@@ -259,9 +259,11 @@ def _finite(value, seen=0):
 
 
 @pytest.fixture(autouse=True)
-def small_budget(monkeypatch):
-    """Sizes from hostile input meet a 256 MiB budget (a quick refusal)."""
+def small_budget(monkeypatch, tmp_path):
+    """Sizes from hostile input meet a 256 MiB budget (a quick refusal); files the calls
+    write under generated names land in a temporary directory, not the checkout."""
     monkeypatch.setenv("PSH_MAX_MEMORY", "256M")
+    monkeypatch.chdir(tmp_path)
 
 
 @pytest.mark.parametrize("name", sorted(TARGETS))
