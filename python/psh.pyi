@@ -253,12 +253,12 @@ class MeasuredPbrdf:
     def to_rgb(self) -> MeasuredPbrdf:
         """The KAIST bands 450..650 nm to linear sRGB, as the dataset's code converts them."""
     def project(
-        self, lmax: int, grid_lmax: Optional[int] = None, tolerance: float = 1e-6
+        self, lmax: int, grid_lmax: Optional[int] = None, tolerance: float = 1e-3
     ) -> IsotropicMatrix:
         """PSH (40), (52): one isotropic matrix per channel."""
 
-def read_measured_pbrdf(path: Path) -> MeasuredPbrdf:
-    """A Mitsuba 3 ``.pbsdf`` table."""
+def read_measured_pbrdf(path: Path, info: Optional[Path] = None) -> MeasuredPbrdf:
+    """A Mitsuba 3 ``.pbsdf`` table, or a KAIST MAT data file with its info file's frames."""
 
 class TripleTable:
     """Couplings of PSH (54)-(56)."""

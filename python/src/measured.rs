@@ -1,9 +1,10 @@
-//! Measured pBRDF tables (`psh::optics::TabulatedPbrdf`; Mitsuba 3 `.pbsdf` files): read,
+//! Measured pBRDF tables (`psh::optics::TabulatedPbrdf`; Mitsuba 3 `.pbsdf` files, KAIST
+//! MAT-files): read,
 //! described, converted to RGB and projected to isotropic PSH matrices.
 
 use crate::errors::IntoPy;
 use crate::pbrdf::IsotropicMatrix;
-use psh::polarized::{project_operator_with, SpinBlock22};
+use psh::polarized::project_isotropic_with;
 use pyo3::prelude::*;
 
 /// A measured pBRDF table: Mueller matrices on a Rusinkiewicz grid per wavelength.
@@ -47,8 +48,10 @@ impl MeasuredPbrdf {
     /// Isotropic PSH matrices (PSH (40), (52)) of band limit `lmax`, one channel per
     /// wavelength, on the exact grid of band `grid_lmax` (default `max(lmax, 2)` rounded up
     /// to odd: an even number of rings, none on the horizon, where a pBRDF steps to zero);
-    /// `tolerance` the largest isotropy defect accepted. Ctrl-C interrupts it.
-    #[pyo3(signature = (lmax, grid_lmax = None, tolerance = 1e-6))]
+    /// `tolerance` the largest isotropy defect accepted (a table is isotropic by
+    /// construction: the defect is the quadrature's aliasing of a piecewise-linear table;
+    /// those entries are dropped). Ctrl-C interrupts it.
+    #[pyo3(signature = (lmax, grid_lmax = None, tolerance = 1e-3))]
     fn project(
         &self,
         py: Python<'_>,
@@ -56,22 +59,14 @@ impl MeasuredPbrdf {
         grid_lmax: Option<usize>,
         tolerance: f64,
     ) -> PyResult<IsotropicMatrix> {
-        let grid = grid_lmax.unwrap_or(lmax.max(2) | 1);
+        let grid = grid_lmax.unwrap_or(psh::polarized::horizon_free_grid(lmax));
         let m = crate::interrupt::interruptible(py, |progress| {
             let channels = (0..self.t.wavelengths_nm().len())
-                .map(|k| {
-                    let channel = self.t.channel(k)?;
-                    let dense = project_operator_with(
-                        &channel,
-                        lmax,
-                        grid,
-                        SpinBlock22::ComplexPair,
-                        progress,
-                    )?;
-                    psh::polarized::IsotropicMatrix::from_dense(&dense, tolerance)
-                })
+                .map(|k| self.t.channel(k))
                 .collect::<psh::Result<Vec<_>>>()?;
-            psh::polarized::IsotropicMatrix::from_channels(&channels)
+            let fields: Vec<&dyn psh::stokes::MuellerField> =
+                channels.iter().map(|c| c as _).collect();
+            project_isotropic_with(&fields, lmax, grid, tolerance, progress).map(|(m, _)| m)
         })?;
         Ok(IsotropicMatrix { m })
     }
@@ -85,11 +80,19 @@ impl MeasuredPbrdf {
     }
 }
 
-/// Reads a measured pBRDF table (Mitsuba 3 `.pbsdf`).
+/// Reads a measured pBRDF table: a Mitsuba 3 `.pbsdf`, or a KAIST dataset MAT data file
+/// with the Stokes frames of its `info` file (without one, in the convention of psh's
+/// tables).
 #[pyfunction]
-fn read_measured_pbrdf(path: std::path::PathBuf) -> PyResult<MeasuredPbrdf> {
+#[pyo3(signature = (path, info = None))]
+fn read_measured_pbrdf(
+    path: std::path::PathBuf,
+    info: Option<std::path::PathBuf>,
+) -> PyResult<MeasuredPbrdf> {
     Ok(MeasuredPbrdf {
-        t: psh::io::read_pbsdf(path).py_err()?,
+        t: psh::io::read_measured_pbrdf(path, info.as_deref())
+            .py_err()?
+            .table,
     })
 }
 

@@ -91,7 +91,14 @@ fn element(b: &[u8]) -> std::result::Result<(u32, &[u8], usize), String> {
                 b.len().saturating_sub(8)
             )
         })?;
-    Ok((first, &b[8..end], (end.div_ceil(8) * 8).min(b.len())))
+    // Elements are padded to 8 bytes, except compressed ones (MAT-File Format, ch. 1,
+    // "Compressed Data Elements": scipy writes them back to back).
+    let padded = if first == 15 {
+        end
+    } else {
+        end.div_ceil(8) * 8
+    };
+    Ok((first, &b[8..end], padded.min(b.len())))
 }
 
 /// The top-level elements of `b` into `file`; `depth` counts compressed nesting.
@@ -260,14 +267,23 @@ mod tests {
         assert_eq!(f.arrays[0].values, [450.0, 500.0]);
         // The same matrix inside a zlib-compressed element.
         let plain = mat("a", 7, &[2, 3], 7, &data);
-        let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
-        std::io::Write::write_all(&mut z, &plain[128..]).unwrap();
-        let z = z.finish().unwrap();
+        let compress = |file: &[u8]| {
+            let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
+            std::io::Write::write_all(&mut z, &file[128..]).unwrap();
+            let z = z.finish().unwrap();
+            let mut element = 15u32.to_le_bytes().to_vec();
+            element.extend((z.len() as u32).to_le_bytes());
+            element.extend(&z);
+            element
+        };
         let mut compressed = plain[..128].to_vec();
-        compressed.extend(15u32.to_le_bytes());
-        compressed.extend((z.len() as u32).to_le_bytes());
-        compressed.extend(&z);
+        compressed.extend(compress(&plain));
         assert_eq!(read(&compressed).unwrap().arrays[0].values, a.values);
+        // Compressed elements are not padded (scipy writes them back to back).
+        assert_ne!(compressed.len() % 8, 0);
+        compressed.extend(compress(&mat("wvls", 11, &[1, 2], 4, &w)));
+        let both = read(&compressed).unwrap();
+        assert_eq!(both.arrays[1].values, [450.0, 500.0]);
         // A char array is skipped and named when asked for.
         let c = read(&mat("s", 4, &[1, 2], 4, &[104, 0, 105, 0])).unwrap();
         let e = c.get(Path::new("x.mat"), "s").unwrap_err().to_string();

@@ -1,6 +1,7 @@
 //! Files: polarized maps as EXR (one file per Stokes component) and as PNG pictures,
 //! PSH coefficient vectors and pBRDF matrices as polarsh-compatible `.npz`, convolution
-//! kernels as CSV, OBJ meshes and TOML scene files ([`load_scene`], feature `render`):
+//! kernels as CSV, measured pBRDF tables (Mitsuba 3 `.pbsdf`, the KAIST dataset's
+//! MAT-files), OBJ meshes and TOML scene files ([`load_scene`], feature `render`):
 //! formats only.
 //!
 //! **Stored frames.** Map files store each texel's components as Mitsuba 3 measures them
@@ -16,9 +17,11 @@
 
 pub(crate) mod exr;
 pub(crate) mod input;
+pub(crate) mod kaist;
 pub(crate) mod kernel_csv;
 pub(crate) mod legend;
 pub(crate) mod mat5;
+pub(crate) mod measured;
 #[cfg(feature = "render")]
 pub(crate) mod mitsuba;
 pub(crate) mod npy_header;
@@ -37,9 +40,11 @@ pub use exr::{
     read_stokes_image, read_stokes_map, stokes_map_files, write_stokes_image, write_stokes_map,
     StokesPixels,
 };
+pub use kaist::read_kaist;
 pub use kernel_csv::read_kernel_csv;
 pub use legend::{tick_label, ColourBar, Legend, LEGEND_MIN_WIDTH};
 pub use mat5::{read_mat5, MatArray, MatFile};
+pub use measured::{read_measured_pbrdf, MeasuredTable};
 #[cfg(feature = "render")]
 pub use mitsuba::{export_mitsuba, MitsubaExport, ENVMAP_ROWS};
 pub use npz::{

@@ -404,6 +404,44 @@ impl IsotropicMatrix {
     }
 }
 
+/// The default quadrature band for projecting a pBRDF to band limit `lmax`:
+/// `max(lmax, 2)` rounded up to odd, so that the Gauss-Legendre grid has an even number
+/// of rings, none on the horizon, where a pBRDF steps to zero (a ring there counts the
+/// whole step: 6% too much for a Lambertian table at 25 rings, `docs/measured-pbrdf.md`).
+pub fn horizon_free_grid(lmax: usize) -> usize {
+    lmax.max(2) | 1
+}
+
+/// The isotropic matrices of `fields` (one channel each, PSH (40) projected on the exact
+/// grid of band `grid_lmax` by [`super::project_operator_with`]) in the isotropic layout
+/// (PSH (52), (53)), and the largest isotropy defect of a channel ([`isotropy_defect`]:
+/// what the quadrature aliased into entries isotropy forbids, which are dropped). Errors:
+/// a defect above `tolerance`, and the projection's.
+pub fn project_isotropic_with(
+    fields: &[&dyn crate::stokes::MuellerField],
+    lmax: usize,
+    grid_lmax: usize,
+    tolerance: f64,
+    progress: &dyn crate::progress::Progress,
+) -> Result<(IsotropicMatrix, f64)> {
+    let mut defect = 0.0f64;
+    let channels = fields
+        .iter()
+        .map(|field| {
+            let dense = super::project_operator_with(
+                *field,
+                lmax,
+                grid_lmax,
+                super::SpinBlock22::ComplexPair,
+                progress,
+            )?;
+            defect = defect.max(isotropy_defect(&dense));
+            IsotropicMatrix::from_dense(&dense, tolerance)
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok((IsotropicMatrix::from_channels(&channels)?, defect))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

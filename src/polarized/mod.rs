@@ -42,7 +42,8 @@ pub use cube::project_cube_map;
 pub use evaluator::PshEvaluator;
 pub use image::project_image;
 pub use isotropic::{
-    isotropic_lmax, isotropic_pair_count, isotropic_pairs, isotropy_defect, IsotropicMatrix,
+    horizon_free_grid, isotropic_lmax, isotropic_pair_count, isotropic_pairs, isotropy_defect,
+    project_isotropic_with, IsotropicMatrix,
 };
 pub use kernel::{ConvolutionKernel, KernelValue};
 pub use linear_basis::{off_block_fraction, rotation_coefficient_matrix, LinearBasis};

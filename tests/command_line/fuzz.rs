@@ -13,6 +13,9 @@
 //! in the temporary directory).
 #![cfg(feature = "cli")]
 
+#[path = "../support/mat.rs"]
+mod mat;
+
 use npyz::zip::write::FileOptions;
 use npyz::zip::{CompressionMethod, ZipArchive, ZipWriter};
 use npyz::WriterBuilder;
@@ -288,6 +291,8 @@ struct Seeds {
     scene_files: Vec<(String, Vec<u8>)>,
     /// Measured pBRDF tables (`.pbsdf`): a sampled plastic, and one with invalid samples.
     tables: Vec<Vec<u8>>,
+    /// KAIST dataset MAT-files: (data, info) pairs, plain and compressed.
+    kaist: Vec<(Vec<u8>, Vec<u8>)>,
 }
 
 /// Isotropic matrices of `channels` channels to `lmax`, entries outside PSH (31) zero.
@@ -411,8 +416,70 @@ impl Seeds {
             scenes: SCENES.iter().map(|s| s.as_bytes().to_vec()).collect(),
             scene_files,
             tables,
+            kaist: kaist_seeds(),
         }
     }
+}
+
+/// A plastic sampled at `5 x 4 x 3` angles and two bands as a KAIST data file (plain and
+/// compressed) with its info file (the table frames; NaN where undefined, as the
+/// dataset's).
+fn kaist_seeds() -> Vec<(Vec<u8>, Vec<u8>)> {
+    use std::f64::consts::{FRAC_PI_2, PI};
+    let line = |n: usize, lo: f64, hi: f64| -> Vec<f64> {
+        (0..n)
+            .map(|k| lo + (hi - lo) * k as f64 / (n - 1) as f64)
+            .collect()
+    };
+    let (pd, td, th) = (
+        line(5, -PI, PI),
+        line(4, 0.0, FRAC_PI_2),
+        line(3, 0.0, FRAC_PI_2),
+    );
+    let model = psh::optics::PolarizedPlastic::new(0.4, 1.5, 0.3).unwrap();
+    let t = psh::optics::TabulatedPbrdf::sample(
+        &[&model, &model],
+        pd.clone(),
+        td.clone(),
+        th.clone(),
+        vec![450.0, 650.0],
+    )
+    .unwrap();
+    let (mut xyzi, mut xyzo) = (Vec::new(), Vec::new());
+    for &p in &pd {
+        for &d in &td {
+            for &h in &th {
+                let (i, o) = psh::optics::rusinkiewicz_directions(p, d, h);
+                let x = i.cross(&o);
+                let x = if x.norm() > 1e-9 {
+                    x.normalize()
+                } else {
+                    nalgebra::Vector3::repeat(f64::NAN)
+                };
+                for (frames, z) in [(&mut xyzi, -i), (&mut xyzo, o)] {
+                    frames.extend(x.iter().chain(z.cross(&x).iter()).chain(z.iter()));
+                }
+            }
+        }
+    }
+    let angles = || {
+        vec![
+            ("phi_d", vec![1, 5], pd.clone()),
+            ("theta_d", vec![1, 4], td.clone()),
+            ("theta_h", vec![1, 3], th.clone()),
+        ]
+    };
+    let mut data = angles();
+    data.push(("pbrdf_T_f", vec![5, 4, 3, 2, 4, 4], t.values().to_vec()));
+    data.push(("wvls", vec![1, 2], vec![450.0, 650.0]));
+    let mut info = angles();
+    info.push(("xyzi_T", vec![5, 4, 3, 3, 3], xyzi));
+    info.push(("xyzo_T", vec![5, 4, 3, 3, 3], xyzo));
+    let info = mat::file(&info);
+    vec![
+        (mat::file(&data), info.clone()),
+        (mat::compressed(&data), info),
+    ]
 }
 
 /// A kernel table of `n + 1` samples from 0 to pi, with a header and a comment if
@@ -534,6 +601,20 @@ fn readers() -> Vec<Reader> {
             read: read_table,
         },
         Reader {
+            name: "kaist-mat",
+            cases: 1500,
+            seed: 8,
+            files: |s, rng| {
+                let (data, info) = rng.pick(&s.kaist).clone();
+                let (mut data, mut info) = (data, info);
+                let hit = if rng.one_in(3) { &mut info } else { &mut data };
+                let other = rng.pick(&s.kaist).0.clone();
+                *hit = mutate_bytes(rng, hit, &other);
+                vec![("case.mat".into(), data), ("case_info.mat".into(), info)]
+            },
+            read: read_kaist,
+        },
+        Reader {
             name: "scene-toml",
             cases: 2000,
             seed: 6,
@@ -570,8 +651,18 @@ fn read_map(p: &Path) -> psh::Result<Vec<f64>> {
 /// A measured table's Mueller matrices at a few direction pairs, every wavelength
 /// (finite by construction: invalid cells read as zero).
 fn read_table(p: &Path) -> psh::Result<Vec<f64>> {
+    table_values(&psh::io::read_pbsdf(p)?)
+}
+
+/// A KAIST data file with the info file beside it, as [`read_table`] reads a table.
+fn read_kaist(p: &Path) -> psh::Result<Vec<f64>> {
+    let info = p.with_file_name("case_info.mat");
+    table_values(&psh::io::read_measured_pbrdf(p, Some(&info))?.table)
+}
+
+/// A table's Mueller matrices at a few direction pairs, every wavelength.
+fn table_values(t: &psh::optics::TabulatedPbrdf) -> psh::Result<Vec<f64>> {
     use psh::stokes::MuellerField;
-    let t = psh::io::read_pbsdf(p)?;
     let mut out = Vec::new();
     for k in 0..t.wavelengths_nm().len() {
         let c = t.channel(k)?;

@@ -2,6 +2,9 @@
 //! `measured_polarized` convention (`.pbsdf`), read back and projected, against the
 //! model itself and its analytic projection.
 
+#[path = "../support/mat.rs"]
+mod mat;
+
 use psh::optics::{PolarizedPlastic, TabulatedPbrdf};
 use psh::polarized::{project_operator, IsotropicMatrix, SpinBlock22};
 use psh::stokes::MuellerField;
@@ -112,4 +115,137 @@ fn kaist_frames_are_psh_s_table_frames() {
     let r = &results[0];
     eprintln!("{}: {:e} (skipped: {:?})", r.id, r.max_error, r.skipped);
     assert!(r.passed, "{r:?}");
+}
+
+/// `C(t)` of a frame turned by `t` about the ray: `s1 + i s2` times `e^{-2 i t}`.
+fn turn(t: f64) -> nalgebra::Matrix4<f64> {
+    let (s, c) = (2.0 * t).sin_cos();
+    nalgebra::Matrix4::new(
+        1.0, 0.0, 0.0, 0.0, 0.0, c, s, 0.0, 0.0, -s, c, 0.0, 0.0, 0.0, 0.0, 1.0,
+    )
+}
+
+/// The KAIST layout: a model sampled at the dataset's angles (`73 x 19 x 19`), its
+/// matrices written in frames of an info file turned by a different angle per sample and
+/// side about each frame's `z` (each configuration also turned about the normal, as the
+/// dataset turns `w_o` to azimuth 0), as two MAT-files. Read with the info file, the table
+/// is the model's again (to `f32` storage); its projection is the model's to the
+/// interpolation error; read with the info file of another sampling, an error.
+#[test]
+fn a_kaist_layout_file_in_turned_frames_reads_as_the_model() {
+    use nalgebra::{Rotation3, Vector3};
+    let dir = std::env::temp_dir().join(format!("psh-kaist-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (pd, td, th) = kaist_axes(73, 19);
+    let convention = table(73, 19);
+    let (mut data, mut xyzi, mut xyzo) = (Vec::new(), Vec::new(), Vec::new());
+    let nan = Vector3::repeat(f64::NAN);
+    let (mut undefined, mut s) = (0, 0usize);
+    for &p in &pd {
+        for &d in &td {
+            for &h in &th {
+                let (i, o) = psh::optics::rusinkiewicz_directions(p, d, h);
+                let spin = Rotation3::from_axis_angle(&Vector3::z_axis(), 0.37 * s as f64);
+                let (i, o) = (spin * i, spin * o);
+                let (zi, zo) = (-i, o);
+                let x = i.cross(&o);
+                let (ti, to) = (0.3 + 0.011 * s as f64, -1.1 + 0.007 * s as f64);
+                let at = s * 16;
+                let m = nalgebra::Matrix4::from_row_slice(&convention.values()[at..at + 16]);
+                let (fi, fo, m) = if x.norm() < 1e-9 || d == FRAC_PI_2 {
+                    // The dataset leaves x, y undefined where w_i = w_o and on the horizon.
+                    undefined += 1;
+                    ([nan, nan, zi], [nan, nan, zo], m)
+                } else {
+                    let x = x.normalize();
+                    // The file's x is the convention's turned by t about z.
+                    let frame = |z: Vector3<f64>, t: f64| {
+                        let xf = x * t.cos() + z.cross(&x) * t.sin();
+                        [xf, z.cross(&xf), z]
+                    };
+                    (frame(zi, ti), frame(zo, to), turn(to) * m * turn(-ti))
+                };
+                data.extend(m.transpose().iter());
+                xyzi.extend(fi.iter().flat_map(|v| v.iter().copied()));
+                xyzo.extend(fo.iter().flat_map(|v| v.iter().copied()));
+                s += 1;
+            }
+        }
+    }
+    let angles = |th: &[f64]| {
+        vec![
+            ("phi_d", vec![1, 73], pd.clone()),
+            ("theta_d", vec![1, 19], td.clone()),
+            ("theta_h", vec![1, 19], th.to_vec()),
+        ]
+    };
+    let (data_path, info_path) = (dir.join("plastic_pbrdf.mat"), dir.join("info.mat"));
+    let mut vars = angles(&th);
+    vars.push(("pbrdf_T_f", vec![73, 19, 19, 1, 4, 4], data));
+    vars.push(("wvls", vec![1, 1], vec![550.0]));
+    std::fs::write(&data_path, mat::compressed(&vars)).unwrap();
+    let mut info = angles(&th);
+    info.push(("xyzi_T", vec![73, 19, 19, 3, 3], xyzi.clone()));
+    info.push(("xyzo_T", vec![73, 19, 19, 3, 3], xyzo.clone()));
+    std::fs::write(&info_path, mat::file(&info)).unwrap();
+
+    let read = psh::io::read_measured_pbrdf(&data_path, Some(&info_path)).unwrap();
+    assert_eq!(read.undefined_frames, undefined);
+    assert_eq!(read.turned + undefined, 73 * 19 * 19);
+    // The turns of the file's frames, as written (largest 89.9 degrees modulo 180).
+    assert!(read.largest_turn > 1.5, "{}", read.largest_turn);
+    let scale = convention
+        .values()
+        .iter()
+        .fold(0.0f64, |a, x| a.max(x.abs()));
+    let worst = read
+        .table
+        .values()
+        .iter()
+        .zip(convention.values())
+        .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+    assert!(
+        worst < 1e-6 * scale,
+        "largest difference {worst:e} of {scale:e}"
+    );
+
+    // Projected, as the model's analytic projection (the bound of the .pbsdf test).
+    let (lmax, grid) = (4, 10);
+    let exact = project_operator(&plastic(), lmax, grid, SpinBlock22::ComplexPair).unwrap();
+    let m = project_operator(
+        &read.table.channel(0).unwrap(),
+        lmax,
+        grid,
+        SpinBlock22::ComplexPair,
+    )
+    .unwrap();
+    let norm = exact.data().iter().map(|x| x * x).sum::<f64>().sqrt();
+    let d: f64 = m
+        .data()
+        .iter()
+        .zip(exact.data())
+        .map(|(a, b)| (a - b) * (a - b))
+        .sum();
+    assert!(d.sqrt() / norm < 0.05, "{:e}", d.sqrt() / norm);
+
+    // Without the info file the turned matrices are read as if in the convention: wrong.
+    let bare = psh::io::read_measured_pbrdf(&data_path, None).unwrap();
+    let off = bare
+        .table
+        .values()
+        .iter()
+        .zip(convention.values())
+        .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+    assert!(off > 1e-2 * scale, "{off:e}");
+
+    // The info file of another sampling (theta_h uniform): named.
+    let uniform: Vec<f64> = td.clone();
+    let mut other = angles(&uniform);
+    other.push(("xyzi_T", vec![73, 19, 19, 3, 3], xyzi));
+    other.push(("xyzo_T", vec![73, 19, 19, 3, 3], xyzo));
+    let other_path = dir.join("other_info.mat");
+    std::fs::write(&other_path, mat::file(&other)).unwrap();
+    let e = psh::io::read_measured_pbrdf(&data_path, Some(&other_path)).unwrap_err();
+    assert!(e.to_string().contains("another sampling"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
 }

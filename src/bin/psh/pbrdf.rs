@@ -3,16 +3,20 @@
 
 use crate::args::writing;
 use clap::{Args, Subcommand};
-use psh::polarized::{project_operator, IsotropicMatrix, SpinBlock22};
+use psh::polarized::{horizon_free_grid, project_isotropic_with};
+use psh::progress::Silent;
+use psh::stokes::MuellerField;
 use serde_json::json;
 use std::path::PathBuf;
 
 #[derive(Subcommand)]
 pub enum Pbrdf {
-    /// What a measured table (Mitsuba 3 .pbsdf) holds: its angles' ranges and counts, its
-    /// wavelengths, the fraction of invalid (NaN) samples; printing JSON.
+    /// What a measured table (Mitsuba 3 .pbsdf, or a KAIST dataset MAT-file with --info)
+    /// holds: its angles' ranges and counts, its wavelengths, the fraction of invalid (NaN)
+    /// samples, the frames turned; printing JSON.
     Info(InfoArgs),
-    /// Project a measured table (Mitsuba 3 .pbsdf) to isotropic PSH coefficient matrices
+    /// Project a measured table (Mitsuba 3 .pbsdf, or a KAIST dataset MAT-file with --info)
+    /// to isotropic PSH coefficient matrices
     /// (PSH (40), (52); one channel per wavelength, or R, G, B with --rgb), written as an
     /// ISOBI2 .npz in polarsh's convention.
     Project(ProjectArgs),
@@ -20,14 +24,38 @@ pub enum Pbrdf {
 
 #[derive(Args)]
 pub struct InfoArgs {
-    /// The table (.pbsdf).
+    #[command(flatten)]
+    table: TableArgs,
+}
+
+/// A measured table and, for a KAIST data file, its info file.
+#[derive(Args)]
+pub struct TableArgs {
+    /// The table: a Mitsuba 3 .pbsdf, or a KAIST dataset data file (.mat, `pbrdf_T_f`).
     input: PathBuf,
+    /// The KAIST info file giving each sample's Stokes frames (`xyzi_T`, `xyzo_T`); without
+    /// it a MAT-file's matrices are read in the convention of psh's tables
+    /// (docs/measured-pbrdf.md).
+    #[arg(long)]
+    info: Option<PathBuf>,
+}
+
+impl TableArgs {
+    fn read(&self) -> psh::Result<psh::io::MeasuredTable> {
+        psh::io::read_measured_pbrdf(&self.input, self.info.as_deref())
+    }
+
+    fn inputs(&self) -> Vec<PathBuf> {
+        std::iter::once(self.input.clone())
+            .chain(self.info.clone())
+            .collect()
+    }
 }
 
 #[derive(Args)]
 pub struct ProjectArgs {
-    /// The table (.pbsdf).
-    input: PathBuf,
+    #[command(flatten)]
+    table: TableArgs,
     /// Band limit of the matrices.
     #[arg(long)]
     lmax: usize,
@@ -39,8 +67,11 @@ pub struct ProjectArgs {
     /// dataset's own code does: three channels R, G, B.
     #[arg(long)]
     rgb: bool,
-    /// Largest isotropy defect accepted (relative to the largest entry).
-    #[arg(long, default_value_t = 1e-6)]
+    /// Largest isotropy defect accepted (relative to the largest entry). A table is
+    /// isotropic by construction: its defect is the quadrature's aliasing of a function
+    /// that is piecewise linear, not band-limited (reported as isotropy_defect; the
+    /// entries are dropped).
+    #[arg(long, default_value_t = 1e-3)]
     tolerance: f64,
     /// Output .npz (ISOBI2).
     #[arg(short, long)]
@@ -50,7 +81,7 @@ pub struct ProjectArgs {
 pub fn run(p: &Pbrdf) -> psh::Result<serde_json::Value> {
     match p {
         Pbrdf::Info(a) => info(a),
-        Pbrdf::Project(a) => writing(std::slice::from_ref(&a.input), &a.output, || project(a)),
+        Pbrdf::Project(a) => writing(&a.table.inputs(), &a.output, || project(a)),
     }
 }
 
@@ -61,33 +92,50 @@ fn axis(v: &[f64]) -> serde_json::Value {
 }
 
 fn info(a: &InfoArgs) -> psh::Result<serde_json::Value> {
-    let t = psh::io::read_pbsdf(&a.input)?;
+    let m = a.table.read()?;
+    let t = &m.table;
     Ok(json!({
-        "input": a.input,
+        "input": a.table.input,
+        "info": a.table.info,
         "phi_d": axis(t.phi_d()),
         "theta_d": axis(t.theta_d()),
         "theta_h": axis(t.theta_h()),
         "wavelengths_nm": t.wavelengths_nm(),
         "invalid_fraction": t.invalid_fraction(),
+        "frames": frames(&m),
     }))
 }
 
+/// What reading did to the Stokes frames.
+fn frames(m: &psh::io::MeasuredTable) -> serde_json::Value {
+    json!({
+        "turned": m.turned,
+        "undefined": m.undefined_frames,
+        "largest_turn_deg": m.largest_turn.to_degrees(),
+    })
+}
+
 fn project(a: &ProjectArgs) -> psh::Result<serde_json::Value> {
-    let t = psh::io::read_pbsdf(&a.input)?;
-    let t = if a.rgb { t.to_rgb()? } else { t };
-    let grid = a.grid_lmax.unwrap_or(a.lmax.max(2) | 1);
+    let read = a.table.read()?;
+    let rgb;
+    let t = if a.rgb {
+        rgb = read.table.to_rgb()?;
+        &rgb
+    } else {
+        &read.table
+    };
+    let grid = a.grid_lmax.unwrap_or(horizon_free_grid(a.lmax));
     let start = std::time::Instant::now();
     let channels = (0..t.wavelengths_nm().len())
-        .map(|k| {
-            let dense = project_operator(&t.channel(k)?, a.lmax, grid, SpinBlock22::ComplexPair)?;
-            IsotropicMatrix::from_dense(&dense, a.tolerance)
-        })
+        .map(|k| t.channel(k))
         .collect::<psh::Result<Vec<_>>>()?;
+    let fields: Vec<&dyn MuellerField> = channels.iter().map(|c| c as _).collect();
+    let (m, defect) = project_isotropic_with(&fields, a.lmax, grid, a.tolerance, &Silent)?;
     let seconds = start.elapsed().as_secs_f64();
-    let m = IsotropicMatrix::from_channels(&channels)?;
     psh::io::write_isotropic_npz(&a.output, &m)?;
     Ok(json!({
-        "input": a.input, "lmax": a.lmax, "grid_lmax": grid,
-        "channels_nm": t.wavelengths_nm(), "seconds": seconds, "output": a.output,
+        "input": a.table.input, "info": a.table.info, "frames": frames(&read),
+        "lmax": a.lmax, "grid_lmax": grid,
+        "channels_nm": t.wavelengths_nm(), "isotropy_defect": defect, "seconds": seconds, "output": a.output,
     }))
 }
