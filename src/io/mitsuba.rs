@@ -23,7 +23,7 @@ use super::exr::write_rgb_exr;
 use super::io_error;
 use super::output::{all_or_nothing, write_file, write_text};
 use crate::error::{Error, Result};
-use crate::optics::{Masking, MicrofacetSpecular};
+use crate::optics::{Masking, MicrofacetSpecular, KAIST_BANDS_NM};
 use crate::polarized::{PshEvaluator, PshVector};
 use crate::pprt::{EnvironmentSource, Scene, SceneMaterial};
 use rayon::prelude::*;
@@ -103,6 +103,13 @@ pub fn export_mitsuba(
                 o.material
             );
             files.push(dir.join(name));
+        }
+        for (k, m) in scene.materials().iter().enumerate() {
+            if let SceneMaterial::Tabulated(t) = m {
+                let path = dir.join(table_file(k));
+                super::write_pbsdf(&path, t.bands())?;
+                files.push(path);
+            }
         }
         match environment(scene.source(), dir, env_rows, &mut differences)? {
             Environment::Map(path) => {
@@ -188,8 +195,9 @@ fn ggx(k: usize, s: &MicrofacetSpecular, differences: &mut Vec<String>) -> Strin
     )
 }
 
-/// Material `k` as a Mitsuba BSDF with id `material_k`. Error: measured coefficient
-/// matrices (no Mitsuba equivalent).
+/// Material `k` as a Mitsuba BSDF with id `material_k` (a table: `measured_polarized`
+/// reading it from [`table_file`]). Errors: measured coefficient matrices (no Mitsuba
+/// equivalent), a table of other wavelengths than the five KAIST bands.
 fn material(k: usize, m: &SceneMaterial, differences: &mut Vec<String>) -> Result<String> {
     let body = match m {
         SceneMaterial::Plastic(p) => {
@@ -248,11 +256,28 @@ fn material(k: usize, m: &SceneMaterial, differences: &mut Vec<String>) -> Resul
         SceneMaterial::Matrices(_) => {
             return Err(unsupported(k, "measured coefficient matrices"));
         }
+        SceneMaterial::Tabulated(t) => {
+            if t.bands().wavelengths_nm() != KAIST_BANDS_NM {
+                return Err(unsupported(
+                    k,
+                    "a table of other wavelengths than the five KAIST bands (measured_polarized reads five)",
+                ));
+            }
+            format!(
+                "<bsdf type=\"measured_polarized\"><string name=\"filename\" value=\"{}\"/></bsdf>",
+                table_file(k)
+            )
+        }
     };
     Ok(format!(
         "    <!-- material {k} -->\n    {}\n",
         body.replacen("<bsdf ", &format!("<bsdf id=\"material_{k}\" "), 1)
     ))
+}
+
+/// The file material `k`'s table is exported to.
+fn table_file(k: usize) -> String {
+    format!("material_{k}.pbsdf")
 }
 
 fn unsupported(k: usize, what: &str) -> Error {

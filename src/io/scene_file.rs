@@ -57,6 +57,7 @@
 
 use crate::error::{clip, Error, Result};
 use crate::map::StokesMap;
+use crate::optics::TabulatedPbrdf;
 use crate::polarized::{IsotropicMatrix, PshVector};
 use crate::pprt::mesh::Mesh;
 use crate::pprt::scene::Scene;
@@ -120,6 +121,11 @@ impl SceneFiles for SceneDirectory<'_> {
 
     fn pbrdf(&self, path: &str) -> Result<IsotropicMatrix> {
         super::npz::read_isotropic_npz(self.resolve(path)?)
+    }
+
+    fn table(&self, path: &str, info: Option<&str>) -> Result<TabulatedPbrdf> {
+        let info = info.map(|i| self.resolve(i)).transpose()?;
+        Ok(super::read_measured_pbrdf(self.resolve(path)?, info.as_deref())?.table)
     }
 
     fn mesh(&self, path: &str) -> Result<Mesh> {

@@ -1,16 +1,18 @@
 //! A material's pBRDF `P(w_i, w_o)` per channel in the shading frame (normal `+z`), as
 //! the reference renderer and the directional lights evaluate it: the analytic models
-//! exactly, coefficient matrices by PSH (40) contracted once per outgoing direction.
+//! and tables exactly, coefficient matrices by PSH (40) contracted once per outgoing
+//! direction.
 
 use super::scene::SceneMaterial;
 use crate::error::{Error, Result};
 use crate::geometry::frame::{Frame, FrameField, ThetaPhiFrameField};
-use crate::optics::{Conductor, Ggx, Lambertian, PolarizedPlastic};
+use crate::optics::{Conductor, Ggx, Lambertian, PolarizedPlastic, TabulatedPbrdf};
 use crate::polarized::{PshEvaluator, PshMatrix};
 use crate::sh::num_coeffs;
 use crate::stokes::{MuellerField, MuellerMatrix, MuellerTransform, StokesVector};
 use nalgebra::Rotation3;
 use num_complex::Complex64;
+use std::sync::Arc;
 
 /// A material's pBRDF per channel, as the reference and the direct lights evaluate it.
 pub(crate) enum Lobe {
@@ -18,6 +20,8 @@ pub(crate) enum Lobe {
     Plastic(PolarizedPlastic),
     Conductor([Conductor; 3]),
     Matrices(Box<Blocks>),
+    /// A measured table (R, G, B), evaluated directly.
+    Tabulated(Arc<TabulatedPbrdf>),
 }
 
 /// Coefficient matrices (RGB) as their nonzero `4 x 4` blocks `(j_o, j_i, P_{j_o j_i})`,
@@ -64,6 +68,7 @@ pub(crate) enum AtPoint<'a> {
     Conductor(&'a [Conductor; 3]),
     /// The contraction and the theta-phi frame at `w_o`.
     Matrices(Contracted, Frame),
+    Tabulated(&'a TabulatedPbrdf),
 }
 
 impl AtPoint<'_> {
@@ -89,6 +94,11 @@ impl AtPoint<'_> {
                 m[1].transform(wi, wo)?,
                 m[2].transform(wi, wo)?,
             ],
+            AtPoint::Tabulated(t) => [
+                t.channel(0)?.transform(wi, wo)?,
+                t.channel(1)?.transform(wi, wo)?,
+                t.channel(2)?.transform(wi, wo)?,
+            ],
             AtPoint::Matrices(k, fo) => {
                 let fi = ThetaPhiFrameField::new().frame(wi)?;
                 let (yr, y2) = basis.basis(wi)?;
@@ -110,6 +120,7 @@ impl Lobe {
             SceneMaterial::Plastic(p) => Lobe::Plastic(*p),
             SceneMaterial::Conductor(c) => Lobe::Conductor(*c),
             SceneMaterial::Matrices(mats) => Lobe::Matrices(Box::new(Blocks::new(mats)?)),
+            SceneMaterial::Tabulated(t) => Lobe::Tabulated(Arc::clone(t.rgb())),
         })
     }
 
@@ -132,6 +143,7 @@ impl Lobe {
             Lobe::Diffuse(d) => AtPoint::Diffuse(d),
             Lobe::Plastic(p) => AtPoint::Plastic(p),
             Lobe::Conductor(m) => AtPoint::Conductor(m),
+            Lobe::Tabulated(t) => AtPoint::Tabulated(t),
             Lobe::Matrices(m) => {
                 if basis.lmax() < m.lmax {
                     return Err(Error::invalid(
@@ -155,7 +167,7 @@ impl Lobe {
         match self {
             Lobe::Plastic(p) => Some((*p.specular().ggx(), 0.5)),
             Lobe::Conductor(m) => Some((*m[0].specular().ggx(), 0.9)),
-            Lobe::Diffuse(_) | Lobe::Matrices(_) => None,
+            Lobe::Diffuse(_) | Lobe::Matrices(_) | Lobe::Tabulated(_) => None,
         }
     }
 }

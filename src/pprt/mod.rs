@@ -42,7 +42,9 @@ pub use reference::{
     check_samples, Fidelity, Reference, ReferenceSettings, MAX_PIXEL_GRID, MAX_REFERENCE_SAMPLES,
 };
 pub use render::{StokesImage, UnphysicalPixels};
-pub use scene::{Camera, EnvironmentSource, Hit, Scene, SceneMaterial, SceneObject};
+pub use scene::{
+    Camera, EnvironmentSource, Hit, Scene, SceneMaterial, SceneObject, TabulatedMaterial,
+};
 pub use scene_spec::{
     CameraSpec, EnvironmentSpec, MaterialSpec, MeshSpec, SceneFiles, SceneSpec, SettingsSpec, Up,
     SOURCE_LMAX,

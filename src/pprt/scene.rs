@@ -8,7 +8,7 @@ use super::sky::{RayleighSky, Sun};
 use crate::error::{Error, Result};
 use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
 use crate::map::StokesMap;
-use crate::optics::{Channel, Conductor, Lambertian, Material, PolarizedPlastic};
+use crate::optics::{Channel, Conductor, Lambertian, Material, PolarizedPlastic, TabulatedPbrdf};
 use crate::polarized::{
     project_operator, FieldArgument, PshEvaluator, PshMatrix, PshVector, SpinBlock22,
 };
@@ -19,6 +19,7 @@ use bvh::bounding_hierarchy::BHShape;
 use bvh::bvh::Bvh;
 use bvh::ray::Ray;
 use nalgebra::{Point3, Rotation3, Vector3};
+use std::sync::Arc;
 
 /// A pBRDF of the scene, RGB.
 #[derive(Clone, Debug)]
@@ -34,6 +35,57 @@ pub enum SceneMaterial {
     /// Coefficient matrices given directly (RGB), e.g. a measured pBRDF read from a
     /// polarsh `.npz`; truncated to the band limit asked for.
     Matrices(Box<[PshMatrix; 3]>),
+    /// A measured table, projected at the band limit asked for.
+    Tabulated(Box<TabulatedMaterial>),
+}
+
+/// A measured pBRDF table as a scene's material: as read (its bands: what Mitsuba 3's
+/// `measured_polarized` reads) and in RGB (the five KAIST bands converted as the
+/// dataset's code does, [`TabulatedPbrdf::to_rgb`]; three channels taken as R, G, B; one
+/// channel as grey).
+#[derive(Clone, Debug)]
+pub struct TabulatedMaterial {
+    bands: Arc<TabulatedPbrdf>,
+    rgb: Arc<TabulatedPbrdf>,
+}
+
+impl TabulatedMaterial {
+    /// The material of `table`. Error: a table of 2, 4 or more than 5 channels, or of 5
+    /// other than the KAIST bands.
+    pub fn new(table: TabulatedPbrdf) -> Result<Self> {
+        let rgb = match table.wavelengths_nm().len() {
+            3 => table.clone(),
+            1 => {
+                let values = table
+                    .values()
+                    .chunks_exact(16)
+                    .flat_map(|m| m.iter().chain(m).chain(m).copied())
+                    .collect();
+                TabulatedPbrdf::new(
+                    table.phi_d().to_vec(),
+                    table.theta_d().to_vec(),
+                    table.theta_h().to_vec(),
+                    vec![table.wavelengths_nm()[0]; 3],
+                    values,
+                )?
+            }
+            _ => table.to_rgb()?,
+        };
+        Ok(Self {
+            bands: Arc::new(table),
+            rgb: Arc::new(rgb),
+        })
+    }
+
+    /// The table as read.
+    pub fn bands(&self) -> &TabulatedPbrdf {
+        &self.bands
+    }
+
+    /// The table in R, G, B.
+    pub fn rgb(&self) -> &Arc<TabulatedPbrdf> {
+        &self.rgb
+    }
 }
 
 impl SceneMaterial {
@@ -49,8 +101,8 @@ impl SceneMaterial {
     }
 
     /// The PSH coefficient matrices (RGB) in the shading frame (normal `+z`), band limit
-    /// `lmax`, projected on the exact grid of `2 lmax + 2`; analytic models with their
-    /// output below the shading plane mirrored ([`MirroredBelow`],
+    /// `lmax`, projected on the exact grid of `2 lmax + 2`; analytic models and tables with
+    /// their output below the shading plane mirrored ([`MirroredBelow`],
     /// `proofs/mirrored-output.md`), measured matrices as given.
     pub fn matrices(&self, lmax: usize) -> Result<[PshMatrix; 3]> {
         let project = |field: &dyn MuellerField| {
@@ -73,6 +125,10 @@ impl SceneMaterial {
                 Ok([m.clone(), m.clone(), m])
             }
             Self::Conductor(c) => Ok([project(&c[0])?, project(&c[1])?, project(&c[2])?]),
+            Self::Tabulated(t) => {
+                let c = |k| t.rgb().channel(k);
+                Ok([project(&c(0)?)?, project(&c(1)?)?, project(&c(2)?)?])
+            }
         }
     }
 }

@@ -6,13 +6,15 @@
 //! build reaches them. Errors name the file and the field.
 
 use super::mesh::Mesh;
-use super::scene::{Camera, EnvironmentSource, Scene, SceneMaterial, SceneObject};
+use super::scene::{
+    Camera, EnvironmentSource, Scene, SceneMaterial, SceneObject, TabulatedMaterial,
+};
 use super::settings::{high_orders_from_number, high_orders_number, TransferSettings, Visibility};
 use super::sky::{RayleighSky, Sun};
 use crate::error::{clip, Error, Result};
 use crate::map::StokesMap;
 use crate::optics::{
-    Channel, ComplexIor, Conductor, Lambertian, Masking, Material, PolarizedPlastic,
+    Channel, ComplexIor, Conductor, Lambertian, Masking, Material, PolarizedPlastic, TabulatedPbrdf,
 };
 use crate::polarized::{Codomain, FieldArgument, IsotropicMatrix, PshVector};
 use nalgebra::{Rotation3, Vector3};
@@ -46,6 +48,9 @@ pub trait SceneFiles {
     fn map(&self, path: &str) -> Result<StokesMap>;
     /// A measured pBRDF's isotropic coefficient matrices (polarsh ISOBI2 `.npz`).
     fn pbrdf(&self, path: &str) -> Result<IsotropicMatrix>;
+    /// A measured pBRDF table (a Mitsuba 3 `.pbsdf`, or a KAIST MAT data file with the
+    /// frames of its `info` file).
+    fn table(&self, path: &str, info: Option<&str>) -> Result<TabulatedPbrdf>;
     /// A triangle mesh (OBJ).
     fn mesh(&self, path: &str) -> Result<Mesh>;
 }
@@ -264,6 +269,17 @@ pub enum MaterialSpec {
         /// The file.
         path: String,
     },
+    /// A measured pBRDF table ([`TabulatedMaterial`]): projected at the render's band
+    /// limit, evaluated as it is by the reference renderer.
+    Table {
+        /// The name meshes refer to.
+        name: String,
+        /// The table: a Mitsuba 3 `.pbsdf`, or a KAIST dataset MAT data file.
+        path: String,
+        /// A KAIST data file's info file (its per-sample Stokes frames).
+        #[serde(default)]
+        info: Option<String>,
+    },
 }
 
 /// A mesh: a primitive or an OBJ file.
@@ -348,9 +364,12 @@ impl SceneSpec {
             }
             _ => None,
         };
-        let materials = self.material.iter().filter_map(|m| match m {
-            MaterialSpec::Npz { path, .. } => Some(path.as_str()),
-            _ => None,
+        let materials = self.material.iter().flat_map(|m| match m {
+            MaterialSpec::Npz { path, .. } => vec![path.as_str()],
+            MaterialSpec::Table { path, info, .. } => std::iter::once(path.as_str())
+                .chain(info.as_deref())
+                .collect(),
+            _ => vec![],
         });
         let meshes = self.mesh.iter().filter_map(|m| match m {
             MeshSpec::Obj { path, .. } => Some(path.as_str()),
@@ -577,6 +596,12 @@ fn material<'a>(
                 ))
             })?;
             (name, SceneMaterial::Matrices(Box::new(rgb)))
+        }
+        MaterialSpec::Table { name, path, info } => {
+            let table = files.table(path, info.as_deref())?;
+            let m = TabulatedMaterial::new(table)
+                .map_err(|e| field(&format!("material '{}'", clip(name)), e))?;
+            (name, SceneMaterial::Tabulated(Box::new(m)))
         }
     })
 }
