@@ -26,6 +26,20 @@ fn plastic() -> PolarizedPlastic {
     PolarizedPlastic::new(0.5, 1.5, 0.3).unwrap()
 }
 
+/// The largest absolute difference of two arrays.
+fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+}
+
+/// `|m - exact| / |exact|` in the Frobenius norm.
+fn relative_error(m: &psh::polarized::PshMatrix, exact: &psh::polarized::PshMatrix) -> f64 {
+    let sq = |v: &mut dyn Iterator<Item = f64>| v.map(|x| x * x).sum::<f64>().sqrt();
+    sq(&mut m.data().iter().zip(exact.data()).map(|(a, b)| a - b))
+        / sq(&mut exact.data().iter().copied())
+}
+
 fn table(n_phi: usize, n_theta: usize) -> TabulatedPbrdf {
     let (p, d, h) = kaist_axes(n_phi, n_theta);
     let model = plastic();
@@ -78,20 +92,13 @@ fn the_projection_of_a_table_converges_to_the_model_s() {
     let (lmax, grid) = (4, 10);
     let model = plastic();
     let exact = project_operator(&model, lmax, grid, SpinBlock22::ComplexPair).unwrap();
-    let norm = exact.data().iter().map(|x| x * x).sum::<f64>().sqrt();
     let error = |n_phi, n_theta| {
         let t = table(n_phi, n_theta);
         let m =
             project_operator(&t.channel(0).unwrap(), lmax, grid, SpinBlock22::ComplexPair).unwrap();
         // Isotropic to the quadrature's aliasing of a piecewise-linear table.
         IsotropicMatrix::from_dense(&m, 1e-6).unwrap();
-        let d: f64 = m
-            .data()
-            .iter()
-            .zip(exact.data())
-            .map(|(a, b)| (a - b) * (a - b))
-            .sum();
-        d.sqrt() / norm
+        relative_error(&m, &exact)
     };
     // The KAIST dataset's downsampled resolution, and four times finer.
     let coarse = error(73, 19);
@@ -198,12 +205,7 @@ fn a_kaist_layout_file_in_turned_frames_reads_as_the_model() {
         .values()
         .iter()
         .fold(0.0f64, |a, x| a.max(x.abs()));
-    let worst = read
-        .table
-        .values()
-        .iter()
-        .zip(convention.values())
-        .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+    let worst = largest_difference(read.table.values(), convention.values());
     assert!(
         worst < 1e-6 * scale,
         "largest difference {worst:e} of {scale:e}"
@@ -219,23 +221,12 @@ fn a_kaist_layout_file_in_turned_frames_reads_as_the_model() {
         SpinBlock22::ComplexPair,
     )
     .unwrap();
-    let norm = exact.data().iter().map(|x| x * x).sum::<f64>().sqrt();
-    let d: f64 = m
-        .data()
-        .iter()
-        .zip(exact.data())
-        .map(|(a, b)| (a - b) * (a - b))
-        .sum();
-    assert!(d.sqrt() / norm < 0.05, "{:e}", d.sqrt() / norm);
+    let e = relative_error(&m, &exact);
+    assert!(e < 0.05, "{e:e}");
 
     // Without the info file the turned matrices are read as if in the convention: wrong.
     let bare = psh::io::read_measured_pbrdf(&data_path, None).unwrap();
-    let off = bare
-        .table
-        .values()
-        .iter()
-        .zip(convention.values())
-        .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+    let off = largest_difference(bare.table.values(), convention.values());
     assert!(off > 1e-2 * scale, "{off:e}");
 
     // The info file of another sampling (theta_h uniform): named.
