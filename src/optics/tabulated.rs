@@ -180,10 +180,11 @@ impl TabulatedPbrdf {
 
     /// The table of `fields` (one per wavelength of `wavelengths_nm`) sampled at the
     /// axes' every combination (`phi_h = 0`): `f = [P]_psh D / cos theta_i` in the table's
-    /// frames (the inverse of [`TabulatedChannel`]'s reading); samples with `w_i` or `w_o`
-    /// at or below the horizon hold the pBRDF's even continuation (the direction mirrored
-    /// above it), zero where the half vector is undefined. Errors: as [`Self::new`], a
-    /// field's.
+    /// frames (the inverse of [`TabulatedChannel`]'s reading); zero where `w_i` or `w_o`
+    /// is at or below the horizon (cosine under 1e-6), as a measurement and
+    /// Mitsuba 3's BSDFs give them, and where the half vector is undefined. Project such a
+    /// table on a grid with no ring on the horizon
+    /// ([`crate::polarized::horizon_free_grid`]). Errors: as [`Self::new`], a field's.
     pub fn sample(
         fields: &[&dyn MuellerField],
         phi_d: Vec<f64>,
@@ -355,21 +356,21 @@ pub fn rusinkiewicz_directions(
     (i.normalize(), o.normalize())
 }
 
-/// The table entry `f = [P]_psh D / cos theta_i` of `field` at `(i, o)`. A direction at
-/// or below the horizon is mirrored above it, its cosine at least [`HORIZON_COSINE`]
-/// (the even continuation of the pBRDF, as `pprt::stages::MirroredBelow`): the
-/// interpolation between samples on either side of the horizon then sees no step, and
-/// `P / cos theta_i` is never `0 / 0` (the samples on `theta_d + theta_h = pi/2` at
-/// `phi_d = 0` lie on the horizon to rounding). Zero without a half vector.
+/// The table entry `f = [P]_psh D / cos theta_i` of `field` at `(i, o)`: zero with a
+/// direction at or below the horizon (cosine under [`HORIZON_COSINE`]: the samples on
+/// `theta_d + theta_h = pi/2` at `phi_d = 0` lie on the horizon to rounding, where
+/// `P / cos theta_i` would be `0 / 0`; above it the half vector is defined). (An even continuation
+/// below the horizon, mirroring each direction above it, was tried: at `theta_d = pi/2`
+/// it puts the mirror configuration's specular peak, and where `f` diverges at grazing
+/// a huge value, into samples whose cells reach the upper hemisphere; projected at
+/// `l = 19`, a GGX gold table then had directional albedos near 900, `psh verify`'s
+/// `pbrdf.passivity_table`.)
 fn sample_one(
     field: &dyn MuellerField,
     i: &Vector3<f64>,
     o: &Vector3<f64>,
 ) -> Result<Matrix4<f64>> {
-    let lift =
-        |v: &Vector3<f64>| Vector3::new(v[0], v[1], v[2].abs().max(HORIZON_COSINE)).normalize();
-    let (i, o) = (&lift(i), &lift(o));
-    if (i + o).amax() < 1e-12 {
+    if i[2] < HORIZON_COSINE || o[2] < HORIZON_COSINE {
         return Ok(Matrix4::zeros());
     }
     let (fi, fo) = sp_frames_unit(i, o)?;
@@ -381,7 +382,8 @@ fn sample_one(
     Ok(m / i[2])
 }
 
-/// Sampled directions are lifted to at least this cosine above the horizon.
+/// Sampled directions of a smaller cosine are on or below the horizon: their entries are
+/// zero.
 const HORIZON_COSINE: f64 = 1e-6;
 
 /// One wavelength of a [`TabulatedPbrdf`] as a Mueller field (a cosine-weighted pBRDF).
