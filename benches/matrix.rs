@@ -2,8 +2,13 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use psh::geometry::rotation_from_rotvec;
-use psh::optics::PolarizedPlastic;
-use psh::polarized::{project_operator, Codomain, IsotropicMatrix, SpinBlock22};
+use psh::optics::{PolarizedPlastic, TabulatedPbrdf};
+use psh::polarized::{
+    horizon_free_grid, project_isotropic_with, project_operator, Codomain, IsotropicMatrix,
+    SpinBlock22,
+};
+use psh::progress::Silent;
+use psh::stokes::MuellerField;
 use psh::testing::random_psh;
 
 /// Project an isotropic pBRDF (polarized plastic) to a sparse PSH matrix of l < 5 and
@@ -22,6 +27,35 @@ fn project_isotropic(c: &mut Criterion) {
             })
         });
     }
+    grp.finish();
+}
+
+/// Project a measured table at the KAIST dataset's downsampled resolution (73 x 19 x 19,
+/// three RGB channels: a plastic sampled into each) to isotropic matrices of l < 20 on the
+/// horizon-free grid, as `psh pbrdf project --lmax 19` does (the anchor: polarsh's
+/// `MuellerField.from_SB20` + `SHCoeff(20)`, docs/measured-pbrdf.md).
+fn project_table(c: &mut Criterion) {
+    use std::f64::consts::PI;
+    let plastic = PolarizedPlastic::new(0.3, 1.5, 0.5).unwrap();
+    let n = |k: usize, n: usize| k as f64 / (n - 1) as f64;
+    let table = TabulatedPbrdf::sample(
+        &[&plastic, &plastic, &plastic],
+        (0..73).map(|k| -PI + 2.0 * PI * n(k, 73)).collect(),
+        (0..19).map(|k| PI / 2.0 * n(k, 19)).collect(),
+        (0..19).map(|k| PI / 2.0 * n(k, 19).powi(2)).collect(),
+        vec![611.0, 549.0, 464.0],
+    )
+    .unwrap();
+    let channels: Vec<_> = (0..3).map(|k| table.channel(k).unwrap()).collect();
+    let fields: Vec<&dyn MuellerField> = channels.iter().map(|c| c as _).collect();
+    let mut grp = c.benchmark_group("psh_matrix");
+    grp.sample_size(10);
+    grp.bench_function("project_table/20", |b| {
+        b.iter(|| {
+            project_isotropic_with(black_box(&fields), 19, horizon_free_grid(19), 1e-3, &Silent)
+                .unwrap()
+        })
+    });
     grp.finish();
 }
 
@@ -52,5 +86,11 @@ fn rotate_to_normal(c: &mut Criterion) {
     grp.finish();
 }
 
-criterion_group!(benches, project_isotropic, apply_sparse, rotate_to_normal);
+criterion_group!(
+    benches,
+    project_isotropic,
+    project_table,
+    apply_sparse,
+    rotate_to_normal
+);
 criterion_main!(benches);
