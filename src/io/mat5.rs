@@ -108,7 +108,11 @@ fn elements(b: &[u8], file: &mut MatFile, depth: u8) -> std::result::Result<Resu
     while at < b.len() {
         let (kind, data, len) = element(&b[at..])?;
         match kind {
-            14 => matrix(data, file)?,
+            14 => {
+                if let Err(e) = matrix(data, file)? {
+                    return Ok(Err(e));
+                }
+            }
             15 if depth == 0 => {
                 let budget = match crate::budget::budget() {
                     Ok(x) => x,
@@ -136,8 +140,10 @@ fn elements(b: &[u8], file: &mut MatFile, depth: u8) -> std::result::Result<Resu
     Ok(Ok(()))
 }
 
-/// One `miMATRIX` element's variable into `file`.
-fn matrix(b: &[u8], file: &mut MatFile) -> std::result::Result<(), String> {
+/// One `miMATRIX` element's variable into `file`. Outer error: the format's; inner: the
+/// budget's (its values as `f64`, twice, checked before allocating: 8 bytes per value of
+/// a type that may store one in a byte).
+fn matrix(b: &[u8], file: &mut MatFile) -> std::result::Result<Result<()>, String> {
     let (_, flags, n1) = element(b)?;
     let flags = flags.get(..4).ok_or("array flags cut short")?;
     let class = flags[0];
@@ -151,7 +157,7 @@ fn matrix(b: &[u8], file: &mut MatFile) -> std::result::Result<(), String> {
     let name = String::from_utf8_lossy(name_raw).into_owned();
     if !(6..=15).contains(&class) || complex {
         file.skipped.push((name, class));
-        return Ok(());
+        return Ok(Ok(()));
     }
     let (kind, data, _) = element(&b[n1 + n2 + n3..])?;
     let size = match kind {
@@ -167,6 +173,13 @@ fn matrix(b: &[u8], file: &mut MatFile) -> std::result::Result<(), String> {
             "variable '{name}': {} bytes of type {kind} do not fill dimensions {dims:?}",
             data.len()
         ));
+    }
+    if let Err(e) = crate::budget::check(
+        &format!("MAT variable '{}'", crate::error::clip(&name)),
+        &[data.len() / size, 2],
+        8,
+    ) {
+        return Ok(Err(e));
     }
     let value = |w: &[u8]| -> f64 {
         match kind {
@@ -188,7 +201,7 @@ fn matrix(b: &[u8], file: &mut MatFile) -> std::result::Result<(), String> {
         values: c_order(&dims, &fortran),
         dims,
     });
-    Ok(())
+    Ok(Ok(()))
 }
 
 /// Values stored first index fastest, in C order (last index fastest).

@@ -42,7 +42,8 @@ impl TabulatedPbrdf {
     /// A table from its axes (radians, strictly increasing, finite; `phi_d` within
     /// `[-pi, pi]`, `theta_d` and `theta_h` within `[0, pi/2]`), its wavelengths (nm) and
     /// its Mueller matrices `[phi_d][theta_d][theta_h][wavelength][4][4]` in the table's
-    /// frames (finite, or NaN for invalid samples). Errors name the axis or the count.
+    /// frames (finite, or NaN for invalid samples). Errors name the axis or the count; a
+    /// table of NaN alone is an error.
     pub fn new(
         phi_d: Vec<f64>,
         theta_d: Vec<f64>,
@@ -82,6 +83,13 @@ impl TabulatedPbrdf {
                     theta_h.len(),
                     wavelengths_nm.len()
                 ),
+            ));
+        }
+        if values.iter().all(|v| v.is_nan()) {
+            return Err(Error::invalid(
+                "Mueller table",
+                format!("{} values, every one NaN", values.len()),
+                "at least one valid (non-NaN) sample",
             ));
         }
         if let Some(k) = values.iter().position(|v| v.is_infinite()) {
@@ -536,6 +544,9 @@ mod tests {
         let mut v = vec![0.0; 128];
         v[7] = f64::INFINITY;
         assert!(TabulatedPbrdf::new(p, d, h, w, v).is_err());
+        let (p, d, h, w) = ok();
+        let e = TabulatedPbrdf::new(p, d, h, w, vec![f64::NAN; 128]).unwrap_err();
+        assert!(e.to_string().contains("every one NaN"), "{e}");
         let (p, d, h, w) = ok();
         let t = TabulatedPbrdf::new(p, d, h, w, vec![0.0; 128]).unwrap();
         assert!(t.channel(1).is_err());

@@ -13,9 +13,7 @@
 //! in the temporary directory).
 #![cfg(feature = "cli")]
 
-#[path = "../support/mat.rs"]
-mod mat;
-
+use crate::mat;
 use npyz::zip::write::FileOptions;
 use npyz::zip::{CompressionMethod, ZipArchive, ZipWriter};
 use npyz::WriterBuilder;

@@ -6,4 +6,6 @@ mod bounded;
 mod cli;
 mod fuzz;
 mod hardening;
+#[path = "../support/mat.rs"]
+mod mat;
 mod pbrdf;

@@ -1,6 +1,7 @@
 //! `psh pbrdf`: a measured table (a `.pbsdf` written by psh from its plastic model)
 //! described and projected, and bad tables refused.
 
+use crate::mat;
 use std::path::Path;
 use std::process::Command;
 
@@ -133,5 +134,41 @@ fn rgb_channels_of_a_flat_table() {
         // float32 storage of the table, weighted sums of five bands.
         assert!(diff < 1e-6, "channel {c}: {diff:e}");
     }
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+/// KAIST MAT-files from the command line: a table of NaN alone, and a variable whose
+/// values (8 bytes each, twice) exceed the memory budget though the file fits it, are
+/// clear errors naming them.
+#[test]
+fn nan_only_and_over_budget_mat_files_are_refused() {
+    let d = std::env::temp_dir().join(format!("psh_pbrdf_mat_{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let angles = |n: usize, hi: f64| line(n, 0.0, hi);
+    let vars = |values: Vec<f64>| {
+        vec![
+            ("phi_d", vec![1, 3], line(3, -3.0, 3.0)),
+            ("theta_d", vec![1, 2], angles(2, 1.5)),
+            ("theta_h", vec![1, 2], angles(2, 1.5)),
+            ("wvls", vec![1, 1], vec![550.0]),
+            ("pbrdf_T_f", vec![3, 2, 2, 1, 4, 4], values),
+        ]
+    };
+    let nan = d.join("nan.mat");
+    std::fs::write(&nan, mat::file(&vars(vec![f64::NAN; 192]))).unwrap();
+    let out = psh(&["pbrdf", "info", s(&nan)]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("nan.mat") && err.contains("every one NaN"),
+        "{err}"
+    );
+    // 4,000 single values: a 16 kB file, 64 kB as f64 twice.
+    let big = d.join("big.mat");
+    std::fs::write(&big, mat::file(&[("x", vec![1, 4000], vec![0.5; 4000])])).unwrap();
+    let out = psh(&["pbrdf", "info", s(&big), "--max-memory", "32K"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("MAT variable 'x'"), "{err}");
     std::fs::remove_dir_all(&d).unwrap();
 }
