@@ -48,6 +48,65 @@ pub fn rows<'a, const K: usize>(
     Ok((shape[..shape.len() - 1].to_vec(), chunks))
 }
 
+/// Largest `| |w| - 1 |` of a single-precision direction that is renormalized: a unit
+/// vector rounded to float32 is within `3 eps_32 / 2 = 1.8e-7` of norm 1, and a vector
+/// computed in float32 a few roundings further; float64 directions are taken as they
+/// are (unit within `psh::geometry::UNIT_TOLERANCE`).
+pub const SINGLE_PRECISION_UNIT_TOLERANCE: f64 = 1e-6;
+
+/// Whether `obj` is an array of floats narrower than float64 (float32, float16).
+fn single_precision(obj: &Bound<'_, PyAny>) -> PyResult<bool> {
+    let Ok(dtype) = obj.getattr("dtype") else {
+        return Ok(false);
+    };
+    let kind: String = dtype.getattr("kind")?.extract()?;
+    let size: usize = dtype.getattr("itemsize")?.extract()?;
+    Ok(kind == "f" && size < 8)
+}
+
+/// Unit directions `(..., 3)` with the leading shape; a float32 (float16) array's rows
+/// are renormalized when within [`SINGLE_PRECISION_UNIT_TOLERANCE`] of unit norm, and
+/// refused (naming the row and its norm) beyond it.
+pub fn directions(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<(Vec<usize>, Vec<[f64; 3]>)> {
+    let single = single_precision(obj)?;
+    let a = f64_array(obj)?;
+    let (lead, w) = rows::<3>(&a, name)?;
+    if !single {
+        return Ok((lead, w.to_vec()));
+    }
+    let w = w
+        .iter()
+        .map(|&w| renormalized(w, name))
+        .collect::<PyResult<_>>()?;
+    Ok((lead, w))
+}
+
+/// One unit direction `(3,)`, renormalized as in [`directions`] when single precision.
+pub fn direction(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<[f64; 3]> {
+    let w = fixed::<3>(obj, name)?;
+    if single_precision(obj)? {
+        renormalized(w, name)
+    } else {
+        Ok(w)
+    }
+}
+
+/// `w / |w|` for a single-precision `w` within [`SINGLE_PRECISION_UNIT_TOLERANCE`] of
+/// unit norm.
+fn renormalized(w: [f64; 3], name: &str) -> PyResult<[f64; 3]> {
+    let norm = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+    if !norm.is_finite() || (norm - 1.0).abs() > SINGLE_PRECISION_UNIT_TOLERANCE {
+        return Err(bad(
+            name,
+            format!(
+                "{w:?} has norm {norm}: a single-precision direction must be unit within \
+                 {SINGLE_PRECISION_UNIT_TOLERANCE:e} (it is renormalized)"
+            ),
+        ));
+    }
+    Ok(w.map(|c| c / norm))
+}
+
 /// A new numpy array of `shape` owning `data` (row-major).
 pub fn owned<'py, T: numpy::Element>(
     py: Python<'py>,

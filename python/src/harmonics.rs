@@ -1,9 +1,9 @@
 //! Evaluation of the bases at arrays of directions: real and complex SH (PSH (12), (1)),
 //! spin-weighted SH (PSH (26)), and Wigner D blocks, complex and real (PSH (9), (13)).
 
-use crate::arrays::{checked_len, f64_array, owned, rows};
+use crate::arrays::{checked_len, directions, owned};
 use crate::errors::IntoPy;
-use crate::rotation::Rotation;
+use crate::rotation::rotation_of;
 use num_complex::Complex64;
 use numpy::PyArrayDyn;
 use psh::geometry::direction_angles;
@@ -21,12 +21,11 @@ fn sh_real<'py>(
     dirs: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let eval = ShEvaluator::new(lmax).py_err()?;
-    let a = f64_array(dirs)?;
-    let (lead, w) = rows::<3>(&a, "directions")?;
+    let (lead, w) = directions(dirs, "directions")?;
     let n = num_coeffs(lmax);
     let mut out = vec![0.0; checked_len("SH values", &[w.len(), n])?];
     // real_batch runs blocks of directions in parallel itself.
-    py.detach(|| eval.real_batch(w, &mut out)).py_err()?;
+    py.detach(|| eval.real_batch(&w, &mut out)).py_err()?;
     owned(py, &[lead, vec![n]].concat(), out)
 }
 
@@ -37,8 +36,7 @@ fn complex_basis<'py>(
     dirs: &Bound<'py, PyAny>,
     f: impl Fn(f64, f64, &mut [Complex64]) -> psh::Result<()> + Sync,
 ) -> PyResult<Bound<'py, PyArrayDyn<Complex64>>> {
-    let a = f64_array(dirs)?;
-    let (lead, w) = rows::<3>(&a, "directions")?;
+    let (lead, w) = directions(dirs, "directions")?;
     let n = num_coeffs(lmax);
     let mut out = vec![Complex64::default(); checked_len("SH values", &[w.len(), n, 2])? / 2];
     py.detach(|| {
@@ -94,11 +92,12 @@ fn wigner_size(lmax: usize) -> PyResult<()> {
 #[pyfunction]
 fn wigner_d<'py>(
     py: Python<'py>,
-    rotation: &Rotation,
+    rotation: &Bound<'py, PyAny>,
     lmax: usize,
 ) -> PyResult<Vec<Bound<'py, PyArrayDyn<Complex64>>>> {
     wigner_size(lmax)?;
-    let d = py.detach(|| WignerD::new(&rotation.r, lmax)).py_err()?;
+    let r = rotation_of(rotation)?;
+    let d = py.detach(|| WignerD::new(&r, lmax)).py_err()?;
     (0..=lmax)
         .map(|l| owned(py, &[2 * l + 1, 2 * l + 1], d.block(l).py_err()?.to_vec()))
         .collect()
@@ -109,11 +108,12 @@ fn wigner_d<'py>(
 #[pyfunction]
 fn wigner_d_real<'py>(
     py: Python<'py>,
-    rotation: &Rotation,
+    rotation: &Bound<'py, PyAny>,
     lmax: usize,
 ) -> PyResult<Vec<Bound<'py, PyArrayDyn<f64>>>> {
     wigner_size(lmax)?;
-    let d = py.detach(|| RealWignerD::new(&rotation.r, lmax)).py_err()?;
+    let r = rotation_of(rotation)?;
+    let d = py.detach(|| RealWignerD::new(&r, lmax)).py_err()?;
     (0..=lmax)
         .map(|l| owned(py, &[2 * l + 1, 2 * l + 1], d.block(l).py_err()?.to_vec()))
         .collect()

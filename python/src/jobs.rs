@@ -27,13 +27,17 @@ fn to_python<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bo
 /// tapers the environment's band limit, `sun` ("lobe", "directional") says how the
 /// analytic sky carries its sun (the scene's by default). The defaults are `psh
 /// render`'s (`psh::apps::RenderJob::default`). Returns `(stokes, report)`: the image
-/// `(3, height, width, 4)` (RGB, Stokes components in the camera's frames, row 0 at the
-/// top) and the report as a dict.
+/// `(height, width, 3, 4)` (row 0 at the top; channels R, G, B; Stokes components s0..s3
+/// in the camera's frames, so `stokes[..., 0]` is the radiance image `imshow` takes) and
+/// the report as a dict.
 #[pyfunction]
 #[pyo3(signature = (scene = None, out = PathBuf::from(RenderJob::OUT), width = ImageSize::RENDER.width,
     height = ImageSize::RENDER.height, l_low = None, l_high = None, rays = None, shadows = true,
     tolerance = Some(RenderJob::TOLERANCE), polarizers = RenderJob::POLARIZERS_DEG.to_vec(),
-    valid_range = true, window = Window::None.name().to_string(), sun = None))]
+    valid_range = true, window = Window::None.name().to_string(), sun = None),
+    text_signature = "(scene=None, out='psh-out', width=480, height=360, l_low=None, \
+    l_high=None, rays=None, shadows=True, tolerance=0.001, polarizers=[0.0, 45.0, 90.0, \
+    135.0], valid_range=True, window='none', sun=None)")]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -76,10 +80,13 @@ fn render<'py>(
     let (report, image) =
         crate::interrupt::interruptible(py, |progress| job.load()?.run(progress))?;
     let image = image.ok_or_else(|| crate::errors::bad("render", "the job rendered no image"))?;
-    let data: Vec<f64> = image.channels.iter().flatten().flatten().copied().collect();
+    let pixels = image.height * image.width;
+    let data: Vec<f64> = (0..pixels)
+        .flat_map(|p| image.channels.iter().flat_map(move |c| c[p]))
+        .collect();
     let stokes = owned(
         py,
-        &[image.channels.len(), image.height, image.width, 4],
+        &[image.height, image.width, image.channels.len(), 4],
         data,
     )?;
     Ok((stokes, to_python(py, &report)?))

@@ -2,7 +2,7 @@
 //! arrays `(channels, rows, columns, 4)`: EXR files, projection PSH (32) and
 //! reconstruction PSH (30) on maps and perspective images.
 
-use crate::arrays::{checked_len, f64_array, fixed, owned, slice};
+use crate::arrays::{checked_len, direction, f64_array, fixed, owned, slice};
 use crate::errors::{bad, IntoPy};
 use crate::vector::{evaluate_at, Field, PshVector};
 use numpy::prelude::*;
@@ -35,7 +35,7 @@ fn read_stokes_map<'py>(
 }
 
 /// Texels `(channels, rows, columns, 4)` with their layout, read in place.
-fn texels<'a>(
+fn layout_of<'a>(
     a: &'a numpy::PyReadonlyArrayDyn<'_, f64>,
 ) -> PyResult<(MapLayout, Vec<&'a [[f64; 4]]>)> {
     let [c, h, w, 4] = *a.shape() else {
@@ -59,11 +59,11 @@ fn texels<'a>(
 #[pyfunction]
 fn write_stokes_map(
     py: Python<'_>,
-    texels_: &Bound<'_, PyAny>,
+    texels: &Bound<'_, PyAny>,
     pattern: std::path::PathBuf,
 ) -> PyResult<Vec<std::path::PathBuf>> {
-    let a = f64_array(texels_)?;
-    let (layout, channels) = texels(&a)?;
+    let a = f64_array(texels)?;
+    let (layout, channels) = layout_of(&a)?;
     let map = StokesMap::new(layout, channels.iter().map(|c| c.to_vec()).collect()).py_err()?;
     py.detach(|| psh::io::write_stokes_map(&map, &pattern))
         .py_err()
@@ -83,7 +83,7 @@ fn project_map(
 ) -> PyResult<PshVector> {
     let codomain = Codomain::from_name(codomain).py_err()?;
     let a = f64_array(texels)?;
-    let (layout, channels) = self::texels(&a)?;
+    let (layout, channels) = layout_of(&a)?;
     py.detach(|| layout.project(&channels, codomain, lmax))
         .py_err()
         .map(PshVector::wrap)
@@ -124,7 +124,7 @@ fn reconstruct_perspective<'py>(
     psh::polarized::FieldArgument::TowardsSource
         .expect(vector.v.argument(), "PSH vector", "a perspective view")
         .py_err()?;
-    let forward = fixed::<3>(forward, "forward")?;
+    let forward = direction(forward, "forward")?;
     let field = PerspectiveFrameField::look(forward, fixed::<3>(up, "up")?).py_err()?;
     let camera = Camera {
         frame: *field.camera(),

@@ -5,7 +5,7 @@
 
 use crate::arrays::{checked_len, f64_array, owned, slice};
 use crate::errors::{bad, IntoPy};
-use crate::rotation::Rotation;
+use crate::rotation::rotation_of;
 use crate::vector::{argument_of, PshVector};
 use numpy::prelude::*;
 use numpy::PyArrayDyn;
@@ -66,6 +66,16 @@ impl Conductor {
             model: model.py_err()?,
         })
     }
+
+    fn __repr__(&self) -> String {
+        let s = self.model.specular();
+        format!(
+            "Conductor(alpha={}, n={}, k={})",
+            s.ggx().alpha(),
+            s.ior().n(),
+            s.ior().k()
+        )
+    }
 }
 
 /// Polarized plastic: GGX specular reflection of a dielectric of index `n` over a
@@ -82,6 +92,16 @@ impl PolarizedPlastic {
         Ok(Self {
             model: psh::optics::PolarizedPlastic::new(alpha, n, albedo).py_err()?,
         })
+    }
+
+    fn __repr__(&self) -> String {
+        let s = self.model.specular();
+        format!(
+            "PolarizedPlastic(alpha={}, n={}, albedo={})",
+            s.ggx().alpha(),
+            s.ior().n(),
+            self.model.diffuse().albedo()
+        )
     }
 }
 
@@ -153,8 +173,9 @@ impl PshMatrix {
     }
 
     /// The operator turned by `rotation`, `D P D^T` (PSH (59), (35)-(37)).
-    fn rotated(&self, py: Python<'_>, rotation: &Rotation) -> PyResult<Self> {
-        let m = py.detach(|| self.m.rotated(&rotation.r)).py_err()?;
+    fn rotated(&self, py: Python<'_>, rotation: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let r = rotation_of(rotation)?;
+        let m = py.detach(|| self.m.rotated(&r)).py_err()?;
         Ok(Self { m })
     }
 
@@ -170,6 +191,34 @@ impl PshMatrix {
         Ok(Self {
             m: self.m.truncated(lmax).py_err()?,
         })
+    }
+
+    /// `P @ f`: [`Self::apply`].
+    fn __matmul__(&self, py: Python<'_>, f: PyRef<'_, PshVector>) -> PyResult<PshVector> {
+        self.apply(py, &f)
+    }
+
+    /// Pickling, `copy.copy` and `copy.deepcopy`: `PshMatrix.from_data` of the entries and
+    /// conventions.
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(
+        Bound<'py, PyAny>,
+        (Bound<'py, PyArrayDyn<f64>>, &'static str, &'static str),
+    )> {
+        let from = py.get_type::<Self>().getattr("from_data")?;
+        Ok((from, (self.data(py)?, self.input(), self.output())))
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "PshMatrix(lmax={}, input={}, output={})",
+            self.m.lmax(),
+            self.input(),
+            self.output()
+        )
     }
 }
 
@@ -267,6 +316,63 @@ impl IsotropicMatrix {
         py.detach(|| self.m.apply(&f.v))
             .py_err()
             .map(PshVector::wrap)
+    }
+
+    /// `P @ f`: [`Self::apply`].
+    fn __matmul__(&self, py: Python<'_>, f: PyRef<'_, PshVector>) -> PyResult<PshVector> {
+        self.apply(py, &f)
+    }
+
+    /// From `blocks` `(channels, pairs, 4, 4)` in the order of `isotropic_pairs(lmax)`
+    /// (what `blocks()` returns), with the argument conventions of input and output.
+    #[staticmethod]
+    #[pyo3(signature = (blocks, input = "towards-source", output = "travel"))]
+    fn from_blocks(blocks: &Bound<'_, PyAny>, input: &str, output: &str) -> PyResult<Self> {
+        let a = f64_array(blocks)?;
+        let (channels, pairs) = match a.shape() {
+            [c, k, 4, 4] => (*c, *k),
+            s => {
+                return Err(bad(
+                    "blocks",
+                    format!("shape {s:?}, expected (channels, pairs, 4, 4)"),
+                ))
+            }
+        };
+        let lmax = psh::polarized::isotropic_lmax(pairs).ok_or_else(|| {
+            bad(
+                "blocks",
+                format!("{pairs} pairs: no band limit's isotropic layout has that many"),
+            )
+        })?;
+        let m =
+            psh::polarized::IsotropicMatrix::from_blocks(lmax, channels, slice(&a)?).py_err()?;
+        Ok(Self {
+            m: m.labelled(argument_of(input)?, argument_of(output)?),
+        })
+    }
+
+    /// Pickling, `copy.copy` and `copy.deepcopy`: `IsotropicMatrix.from_blocks` of the
+    /// blocks and conventions.
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(
+        Bound<'py, PyAny>,
+        (Bound<'py, PyArrayDyn<f64>>, &'static str, &'static str),
+    )> {
+        let from = py.get_type::<Self>().getattr("from_blocks")?;
+        Ok((from, (self.blocks(py)?, self.input(), self.output())))
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "IsotropicMatrix(lmax={}, channels={}, input={}, output={})",
+            self.m.lmax(),
+            self.m.channels(),
+            self.input(),
+            self.output()
+        )
     }
 }
 

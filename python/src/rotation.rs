@@ -120,8 +120,51 @@ impl Rotation {
         }
     }
 
+    /// Pickling, `copy.copy` and `copy.deepcopy`: the matrix, restored bit for bit by
+    /// `_unpickle`.
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyArrayDyn<f64>>,))> {
+        let from = py.get_type::<Self>().getattr("_unpickle")?;
+        Ok((from, (self.matrix(py)?,)))
+    }
+
+    /// The rotation of a pickled matrix: checked as in `from_matrix`, then kept as it is
+    /// (`from_matrix` orthonormalizes, which may change the last bits).
+    #[staticmethod]
+    fn _unpickle(m: &Bound<'_, PyAny>) -> PyResult<Self> {
+        Self::from_matrix(m)?;
+        let a = f64_array(m)?;
+        Ok(Self {
+            r: Rotation3::from_matrix_unchecked(Matrix3::from_row_slice(slice(&a)?)),
+        })
+    }
+
     fn __repr__(&self) -> String {
         let (a, b, g) = psh::geometry::euler_zyz(&self.r);
         format!("Rotation(euler_zyz=({a:.6}, {b:.6}, {g:.6}))")
     }
+}
+
+/// The rotation a function is given: a `psh.Rotation`, one scipy
+/// `scipy.spatial.transform.Rotation` (its `as_matrix()`, the same active rotation
+/// `w -> R w` as `Rotation.matrix()`), or one `quaternionic.array` unit quaternion (its
+/// `to_rotation_matrix`); matrices are checked as in `Rotation.from_matrix`.
+pub fn rotation_of(obj: &Bound<'_, PyAny>) -> PyResult<Rotation3<f64>> {
+    if let Ok(r) = obj.cast::<Rotation>() {
+        return Ok(r.get().r);
+    }
+    let matrix = if obj.hasattr("as_matrix")? {
+        obj.call_method0("as_matrix")?
+    } else if obj.hasattr("to_rotation_matrix")? {
+        obj.getattr("to_rotation_matrix")?
+    } else {
+        return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+            "rotation: a {} is not a psh.Rotation, a scipy Rotation or a quaternionic array",
+            obj.get_type().name()?
+        )));
+    };
+    Ok(Rotation::from_matrix(&matrix)?.r)
 }

@@ -2,9 +2,9 @@
 //! codomain and argument convention, and the frame fields their Stokes vectors are
 //! read in.
 
-use crate::arrays::{checked_len, f64_array, owned, rows, slice};
+use crate::arrays::{checked_len, directions, f64_array, owned, slice};
 use crate::errors::{bad, IntoPy};
-use crate::rotation::Rotation;
+use crate::rotation::rotation_of;
 use numpy::prelude::*;
 use numpy::PyArrayDyn;
 use psh::geometry::{CubeMapFrameField, Frame, PerspectiveFrameField, ThetaPhiFrameField};
@@ -77,7 +77,7 @@ impl FrameField {
     /// `up` (x image-right, y image-down, z the pixel's direction).
     #[staticmethod]
     fn perspective(forward: &Bound<'_, PyAny>, up: &Bound<'_, PyAny>) -> PyResult<Self> {
-        let f = crate::arrays::fixed::<3>(forward, "forward")?;
+        let f = crate::arrays::direction(forward, "forward")?;
         let u = crate::arrays::fixed::<3>(up, "up")?;
         Ok(Self {
             field: Field::Perspective(PerspectiveFrameField::look(f, u).py_err()?),
@@ -90,7 +90,7 @@ impl FrameField {
         py: Python<'py>,
         w: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-        let w = crate::arrays::fixed::<3>(w, "direction")?;
+        let w = crate::arrays::direction(w, "direction")?;
         let f = psh::geometry::FrameField::frame(&self.field, w).py_err()?;
         let axes = [f.x(), f.y(), f.z()];
         owned(
@@ -222,7 +222,9 @@ impl PshVector {
         self.v.argument().name()
     }
 
-    /// The coefficients, a new array of shape `(channels, (lmax+1)^2, components)`.
+    /// The coefficients, a read-only copy of shape `(channels, (lmax+1)^2, components)`
+    /// (the vector is immutable: writing raises instead of changing nothing; build a new
+    /// vector from `coeffs.copy()`).
     #[getter]
     fn coeffs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let shape = [
@@ -230,7 +232,60 @@ impl PshVector {
             psh::sh::num_coeffs(self.v.lmax()),
             self.v.codomain().components().len(),
         ];
-        owned(py, &shape, self.v.data().to_vec())
+        let a = owned(py, &shape, self.v.data().to_vec())?;
+        a.call_method1("setflags", (false,))?;
+        Ok(a)
+    }
+
+    /// Pickling, `copy.copy` and `copy.deepcopy`: the constructor, from the coefficients,
+    /// codomain and argument.
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(
+        Bound<'py, PyAny>,
+        (Bound<'py, PyArrayDyn<f64>>, &'static str, &'static str),
+    )> {
+        Ok((
+            py.get_type::<Self>().into_any(),
+            (self.coeffs(py)?, self.codomain(), self.argument()),
+        ))
+    }
+
+    /// `v + w`: same band limit, codomain, channels and argument (else `ValueError`).
+    fn __add__(&self, other: PyRef<'_, PshVector>) -> PyResult<Self> {
+        Ok(Self::wrap(self.v.combined(1.0, &other.v, 1.0).py_err()?))
+    }
+
+    /// `v - w`, as `v + w`.
+    fn __sub__(&self, other: PyRef<'_, PshVector>) -> PyResult<Self> {
+        Ok(Self::wrap(self.v.combined(1.0, &other.v, -1.0).py_err()?))
+    }
+
+    /// `v * s` for a number `s`.
+    fn __mul__(&self, s: f64) -> PyResult<Self> {
+        Ok(Self::wrap(self.v.scaled(s).py_err()?))
+    }
+
+    /// `s * v` for a number `s`.
+    fn __rmul__(&self, s: f64) -> PyResult<Self> {
+        self.__mul__(s)
+    }
+
+    /// `v / s` for a non-zero number `s`.
+    fn __truediv__(&self, s: f64) -> PyResult<Self> {
+        if s == 0.0 {
+            return Err(pyo3::exceptions::PyZeroDivisionError::new_err(
+                "PshVector divided by zero",
+            ));
+        }
+        self.__mul__(1.0 / s)
+    }
+
+    /// `-v`.
+    fn __neg__(&self) -> PyResult<Self> {
+        self.__mul__(-1.0)
     }
 
     /// The Stokes components `[s0, s1, s2, s3]` PSH (30) of every channel at unit
@@ -243,19 +298,17 @@ impl PshVector {
         dirs: &Bound<'py, PyAny>,
         frames: Option<&FrameField>,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-        let a = f64_array(dirs)?;
-        let (lead, w) = rows::<3>(&a, "directions")?;
-        let out = evaluate_at(py, &self.v, w, FrameField::or_theta_phi(frames))?;
+        let (lead, w) = directions(dirs, "directions")?;
+        let out = evaluate_at(py, &self.v, &w, FrameField::or_theta_phi(frames))?;
         owned(py, &[vec![self.v.channels()], lead, vec![4]].concat(), out)
     }
 
     /// The coefficients of the field turned by `rotation` (PSH (35)-(37): Wigner blocks
     /// on each component, spin 2 rotating as a spin-weighted function), the blocks streamed
     /// one degree at a time.
-    fn rotated(&self, py: Python<'_>, rotation: &Rotation) -> PyResult<Self> {
-        py.detach(|| self.v.rotated(&rotation.r))
-            .py_err()
-            .map(Self::wrap)
+    fn rotated(&self, py: Python<'_>, rotation: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let r = rotation_of(rotation)?;
+        py.detach(|| self.v.rotated(&r)).py_err().map(Self::wrap)
     }
 
     /// The same field under the other argument convention (`"travel"` or

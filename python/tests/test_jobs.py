@@ -1,5 +1,6 @@
 """The whole pipeline from Python: `render` (the PPRT job) and `verify` (psh's checks)."""
 
+import inspect
 import json
 import pathlib
 
@@ -12,7 +13,7 @@ import psh
 def test_render_returns_the_image_and_the_report(tmp_path, cli):
     stokes, report = psh.render(out=tmp_path / "py", width=24, height=18, l_low=2, l_high=4,
                                 rays=8, polarizers=[0.0, 90.0])
-    assert stokes.shape == (3, 18, 24, 4) and np.isfinite(stokes).all()
+    assert stokes.shape == (18, 24, 3, 4) and np.isfinite(stokes).all()
     assert report["counts"]["primary_rays"] == 24 * 18
     assert report["settings"]["l_low"] == 2 and report["settings"]["polarizers_deg"] == [0.0, 90.0]
     assert json.loads((tmp_path / "py" / "report.json").read_text()) == report
@@ -33,3 +34,18 @@ def test_verify_runs_psh_checks():
     # A filter no check matches is a mistake (as `psh verify --filter` says), not [].
     with pytest.raises(ValueError, match="no-such-check"):
         psh.verify("no-such-check")
+
+
+def test_render_signature_shows_the_defaults_it_uses(tmp_path):
+    """`help(psh.render)` shows values (no `...`), and they are the ones the job applies."""
+    defaults = {k: p.default for k, p in inspect.signature(psh.render).parameters.items()}
+    assert Ellipsis not in defaults.values()
+    stokes, report = psh.render(out=tmp_path, l_low=2, l_high=0, rays=1)
+    s = report["settings"]
+    assert s["image"] == [defaults["width"], defaults["height"]]
+    assert stokes.shape == (defaults["height"], defaults["width"], 3, 4)
+    assert s["polarizers_deg"] == defaults["polarizers"]
+    assert s["window"] == defaults["window"]
+    assert s["valid_range_projection"] == defaults["valid_range"]
+    assert s["shadows"] == defaults["shadows"]
+    assert report["plan"]["tolerance"] == defaults["tolerance"]

@@ -313,6 +313,63 @@ impl PshVector {
         Ok(e)
     }
 
+    /// `a self + b other`, the field's linear combination (PSH (34) is linear in the
+    /// field). Errors: `a`, `b` or a result not finite; a band limit, codomain, channel
+    /// count or argument convention that differs, named (truncate, convert or relabel
+    /// one first: the combination does not guess).
+    pub fn combined(&self, a: f64, other: &PshVector, b: f64) -> Result<PshVector> {
+        crate::error::finite("coefficient a", a)?;
+        crate::error::finite("coefficient b", b)?;
+        let differs = |what: &str, x: String, y: String| {
+            Error::invalid(
+                "vectors combined",
+                format!("{what} {x} and {y}"),
+                format!("the same {what}"),
+            )
+        };
+        if self.lmax != other.lmax {
+            return Err(differs(
+                "band limit",
+                self.lmax.to_string(),
+                other.lmax.to_string(),
+            ));
+        }
+        if self.codomain != other.codomain {
+            let n = |c: Codomain| c.name().to_string();
+            return Err(differs("codomain", n(self.codomain), n(other.codomain)));
+        }
+        if self.channels != other.channels {
+            let c = |v: &PshVector| v.channels.to_string();
+            return Err(differs("channel count", c(self), c(other)));
+        }
+        if self.argument != other.argument {
+            let n = |v: &PshVector| v.argument.name().to_string();
+            return Err(differs("argument convention", n(self), n(other)));
+        }
+        let data: Vec<f64> = self
+            .data
+            .iter()
+            .zip(&other.data)
+            .map(|(x, y)| a * x + b * y)
+            .collect();
+        finite_all("combined coefficient", &data)?;
+        Ok(PshVector {
+            data,
+            ..self.clone()
+        })
+    }
+
+    /// `s self`. Error: `s` or a result not finite.
+    pub fn scaled(&self, s: f64) -> Result<PshVector> {
+        crate::error::finite("scale", s)?;
+        let data: Vec<f64> = self.data.iter().map(|x| s * x).collect();
+        finite_all("scaled coefficient", &data)?;
+        Ok(PshVector {
+            data,
+            ..self.clone()
+        })
+    }
+
     pub(super) fn offset(&self, channel: usize, lm: usize) -> usize {
         (channel * num_coeffs(self.lmax) + lm) * self.codomain.components().len()
     }
@@ -433,6 +490,34 @@ fn parity(n: i64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `a v + b w` evaluates to `a v(w) + b w(w)` (the field is linear in its
+    /// coefficients), and vectors that differ in band limit, codomain, channels or
+    /// convention are refused, naming what differs.
+    #[test]
+    fn combinations_are_linear_and_checked() {
+        let v = crate::testing::random_psh(4, Codomain::Full, 2, 1).unwrap();
+        let w = crate::testing::random_psh(4, Codomain::Full, 2, 2).unwrap();
+        let sum = v.combined(2.0, &w, -0.5).unwrap();
+        let dir = [0.36, -0.48, 0.8];
+        for c in 0..2 {
+            let (a, b, s) = (
+                v.evaluate(c, dir).unwrap(),
+                w.evaluate(c, dir).unwrap(),
+                sum.evaluate(c, dir).unwrap(),
+            );
+            let want = a.components().vector() * 2.0 - b.components().vector() * 0.5;
+            assert!((s.components().vector() - want).amax() < 1e-12);
+        }
+        assert_eq!(v.scaled(3.0).unwrap().data()[5], 3.0 * v.data()[5]);
+        let e = |x: &PshVector| v.combined(1.0, x, 1.0).unwrap_err().to_string();
+        assert!(e(&v.truncated(3).unwrap()).contains("band limit"));
+        assert!(e(&v.with_codomain(Codomain::NoCircular)).contains("codomain"));
+        assert!(e(&v.channel(0).unwrap()).contains("channel count"));
+        assert!(e(&v.converted(FieldArgument::Travel)).contains("argument convention"));
+        assert!(v.scaled(f64::NAN).is_err());
+        assert!(v.combined(f64::INFINITY, &w, 1.0).is_err());
+    }
 
     #[test]
     fn index_set_and_bad_input() {
