@@ -3,8 +3,9 @@
 //! ([`crate::random`]). Library code never imports this module.
 
 use crate::error::Result;
-use crate::polarized::{in_index_set, Codomain, PshVector};
+use crate::polarized::{in_index_set, Codomain, PshMatrix, PshVector};
 use crate::random::pseudo_random;
+use crate::sh::num_coeffs;
 
 /// `n` deterministic pseudo-random unit directions (polar angle uniform in `[0, pi]`,
 /// azimuth in `[-3.2, 3.2)`), from [`pseudo_random`] with `seed`.
@@ -208,4 +209,26 @@ pub fn gauss_legendre_pole_distance(n: usize) -> Result<f64> {
         worst = worst.max(p.abs() * (g.weights[j] / 2.0).sqrt() / f64::EPSILON);
     }
     Ok(worst)
+}
+
+/// The share `sqrt(sum_{max(l_o, l_i) > l} P^2 / sum P^2)` of a matrix's squared entries
+/// above degree `l`: by Parseval (the PSH basis is orthonormal) the band-limit residual of
+/// its operator projected to `l` (`proofs/band-limit-residual.md`).
+pub fn share_above(m: &PshMatrix, l: usize) -> f64 {
+    let n = num_coeffs(m.lmax());
+    let (mut all, mut high) = (0.0f64, 0.0f64);
+    for jo in 0..n {
+        for ji in 0..n {
+            for po in 0..4 {
+                for pi in 0..4 {
+                    let x = m.data()[m.index(jo, ji, po, pi)];
+                    all += x * x;
+                    if jo.max(ji) >= num_coeffs(l) {
+                        high += x * x;
+                    }
+                }
+            }
+        }
+    }
+    (high / all).sqrt()
 }

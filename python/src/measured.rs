@@ -46,8 +46,9 @@ impl MeasuredPbrdf {
     }
 
     /// Isotropic PSH matrices (PSH (40), (52)) of band limit `lmax`, one channel per
-    /// wavelength, on the exact grid of band `grid_lmax` (default `max(lmax, 2)` rounded up
-    /// to odd: an even number of rings, none on the horizon, where a pBRDF steps to zero);
+    /// wavelength, on the exact grid of band `grid_lmax` (default `max(lmax, 19)` rounded
+    /// up to odd: an even number of rings, none on the horizon, where a pBRDF steps to
+    /// zero, and at least the table's resolution);
     /// `tolerance` the largest isotropy defect accepted (a table is isotropic by
     /// construction: the defect is the quadrature's aliasing of a piecewise-linear table;
     /// those entries are dropped). Ctrl-C interrupts it.
@@ -59,14 +60,14 @@ impl MeasuredPbrdf {
         grid_lmax: Option<usize>,
         tolerance: f64,
     ) -> PyResult<IsotropicMatrix> {
-        let grid = grid_lmax.unwrap_or(psh::polarized::horizon_free_grid(lmax));
+        let grid = grid_lmax.unwrap_or(psh::polarized::table_grid(lmax));
         let m = crate::interrupt::interruptible(py, |progress| {
             let channels = (0..self.t.wavelengths_nm().len())
                 .map(|k| self.t.channel(k))
                 .collect::<psh::Result<Vec<_>>>()?;
             let fields: Vec<&dyn psh::stokes::MuellerField> =
                 channels.iter().map(|c| c as _).collect();
-            project_isotropic_with(&fields, lmax, grid, tolerance, progress).map(|(m, _)| m)
+            project_isotropic_with(&fields, lmax, grid, tolerance, progress).map(|p| p.matrix)
         })?;
         Ok(IsotropicMatrix { m })
     }

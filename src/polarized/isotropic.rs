@@ -412,23 +412,49 @@ pub fn horizon_free_grid(lmax: usize) -> usize {
     lmax.max(2) | 1
 }
 
+/// The smallest default quadrature band for a measured table, [`table_grid`].
+pub const TABLE_GRID_MIN: usize = 19;
+
+/// The default quadrature band for projecting a measured table to band limit `lmax`:
+/// [`horizon_free_grid`] of `max(lmax, 19)`. A table is piecewise linear, not
+/// band-limited, so a low band limit computed on its own small grid aliases: the KAIST
+/// dataset's resolution (19 samples of `theta_d` and `theta_h`) is sampled by at least 20
+/// rings (a constant KAIST-layout table at `l = 4`: isotropy defect 1e-2 on the grid of
+/// band 5, 9e-4 on that of band 19; `docs/measured-pbrdf.md`).
+pub fn table_grid(lmax: usize) -> usize {
+    horizon_free_grid(lmax.max(TABLE_GRID_MIN))
+}
+
+/// An isotropic projection of measured or sampled operators, with what the grid says of it.
+#[derive(Clone, Debug)]
+pub struct IsotropicProjection {
+    /// The matrices, one channel per field.
+    pub matrix: IsotropicMatrix,
+    /// The largest isotropy defect of a channel ([`isotropy_defect`]: what the quadrature
+    /// aliased into entries isotropy forbids, which are dropped).
+    pub isotropy_defect: f64,
+    /// The largest relative residual of the band limit of a channel on the grid,
+    /// `sqrt(1 - |P_L|^2 / |P|^2)`: the part of the operator's norm (sampled on the grid)
+    /// that degrees `<= lmax` do not hold (`proofs/band-limit-residual.md`).
+    pub band_limit_residual: f64,
+}
+
 /// The isotropic matrices of `fields` (one channel each, PSH (40) projected on the exact
-/// grid of band `grid_lmax` by [`super::project_operator_with`]) in the isotropic layout
-/// (PSH (52), (53)), and the largest isotropy defect of a channel ([`isotropy_defect`]:
-/// what the quadrature aliased into entries isotropy forbids, which are dropped). Errors:
-/// a defect above `tolerance`, and the projection's.
+/// grid of band `grid_lmax` as [`super::project_operator_with`]) in the isotropic layout
+/// (PSH (52), (53)), with the largest isotropy defect and band-limit residual of a channel.
+/// Errors: a defect above `tolerance`, and the projection's.
 pub fn project_isotropic_with(
     fields: &[&dyn crate::stokes::MuellerField],
     lmax: usize,
     grid_lmax: usize,
     tolerance: f64,
     progress: &dyn crate::progress::Progress,
-) -> Result<(IsotropicMatrix, f64)> {
-    let mut defect = 0.0f64;
+) -> Result<IsotropicProjection> {
+    let (mut defect, mut residual) = (0.0f64, 0.0f64);
     let channels = fields
         .iter()
         .map(|field| {
-            let dense = super::project_operator_with(
+            let (dense, norm_sq) = super::project_operator_normed(
                 *field,
                 lmax,
                 grid_lmax,
@@ -436,10 +462,15 @@ pub fn project_isotropic_with(
                 progress,
             )?;
             defect = defect.max(isotropy_defect(&dense));
+            residual = residual.max(super::band_limit_residual(norm_sq, &dense));
             IsotropicMatrix::from_dense(&dense, tolerance)
         })
         .collect::<Result<Vec<_>>>()?;
-    Ok((IsotropicMatrix::from_channels(&channels)?, defect))
+    Ok(IsotropicProjection {
+        matrix: IsotropicMatrix::from_channels(&channels)?,
+        isotropy_defect: defect,
+        band_limit_residual: residual,
+    })
 }
 
 #[cfg(test)]

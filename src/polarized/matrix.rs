@@ -136,7 +136,7 @@ impl PshMatrix {
         self
     }
 
-    fn index(&self, jo: usize, ji: usize, po: usize, pi: usize) -> usize {
+    pub(crate) fn index(&self, jo: usize, ji: usize, po: usize, pi: usize) -> usize {
         ((jo * num_coeffs(self.lmax) + ji) * 4 + po) * 4 + pi
     }
 
@@ -190,6 +190,22 @@ pub fn project_operator_with(
     block: SpinBlock22,
     progress: &dyn crate::progress::Progress,
 ) -> Result<PshMatrix> {
+    project_operator_normed(field, lmax, grid_lmax, block, progress).map(|(m, _)| m)
+}
+
+/// [`project_operator_with`] and the grid's squared norm of the operator,
+/// `sum_a sum_b w_a w_b |P(w_a, w_b)|_F^2` (the Frobenius norm is the same in every pair of
+/// Stokes frames). The PSH basis of degrees `<= lmax` is orthonormal in the grid's inner
+/// product (its products are of degree `<= 2 grid_lmax`, integrated exactly), so the
+/// matrix's squared entries sum to at most this norm, and the difference is the squared
+/// residual of the band limit on the grid (Pythagoras; `band_limit_residual`).
+pub(crate) fn project_operator_normed(
+    field: &(impl MuellerField + ?Sized),
+    lmax: usize,
+    grid_lmax: usize,
+    block: SpinBlock22,
+    progress: &dyn crate::progress::Progress,
+) -> Result<(PshMatrix, f64)> {
     if grid_lmax < lmax.max(2) {
         return Err(Error::invalid(
             "grid_lmax",
@@ -237,6 +253,7 @@ pub fn project_operator_with(
     let e = |m: &MuellerMatrix, r: usize, c: usize| m.get(r, c).unwrap_or(0.0);
     // fields[j * 4 + p_i][b]: P_F[Y_{j p_i}](w_b) in the theta-phi frame at w_b.
     let mut fields = vec![vec![[0.0; 4]; np]; n * 4];
+    let mut norm_sq = 0.0;
     progress.start("projecting the operator", np as u64);
     for b in 0..np {
         progress.check_cancelled("the projection of the operator")?;
@@ -245,6 +262,11 @@ pub fn project_operator_with(
             .iter()
             .map(|fa| field.matrix_in(fa, &frames[b]))
             .collect::<Result<Vec<_>>>()?;
+        norm_sq += grid.point_weight(b)
+            * ms.iter()
+                .enumerate()
+                .map(|(a, m)| grid.point_weight(a) * m.matrix().norm_squared())
+                .sum::<f64>();
         for po in [0, 3] {
             for pi in [0, 3] {
                 let h = real(&|m| e(m, po, pi), &ms)?;
@@ -321,7 +343,18 @@ pub fn project_operator_with(
             }
         }
     }
-    Ok(out)
+    Ok((out, norm_sq))
+}
+
+/// The relative residual of the band limit on the grid, `sqrt(1 - |P_L|^2 / |P|^2)`, from
+/// the grid's squared norm of an operator and the squared norm of its coefficients
+/// (`project_operator_normed`); 0 for an operator that is zero on the grid.
+pub(crate) fn band_limit_residual(norm_sq: f64, matrix: &PshMatrix) -> f64 {
+    if norm_sq <= 0.0 {
+        return 0.0;
+    }
+    let kept: f64 = matrix.data.iter().map(|x| x * x).sum();
+    ((norm_sq - kept).max(0.0) / norm_sq).sqrt()
 }
 
 /// The Mueller transform field of a coefficient matrix (the inverse of PSH (40)):
@@ -538,6 +571,24 @@ mod tests {
         bad[16] = 1.0; // (j_o, j_i) = (0, 1), p_o = p_i = 0: allowed
         bad[1] = 1.0; // (0, 0), p_i = 1: outside PSH (31)
         assert!(PshMatrix::from_data(3, bad).is_err());
+    }
+
+    /// The band-limit residual of an operator of degree 5 projected to degree 3 is the
+    /// share of its matrix entries above degree 3 (Parseval), and zero at its own degree.
+    #[test]
+    fn band_limit_residual_is_the_share_of_the_higher_degrees() {
+        let m = crate::testing::random_psh_matrix(5, 11).unwrap();
+        let want = crate::testing::share_above(&m, 3);
+        let silent = &crate::progress::Silent;
+        let (p, norm_sq) =
+            project_operator_normed(&MatrixKernel(&m), 3, 5, SpinBlock22::ComplexPair, silent)
+                .unwrap();
+        let got = band_limit_residual(norm_sq, &p);
+        assert!((got - want).abs() < 1e-12 && want > 0.3, "{got} {want}");
+        let (q, norm_sq) =
+            project_operator_normed(&MatrixKernel(&m), 5, 5, SpinBlock22::ComplexPair, silent)
+                .unwrap();
+        assert!(band_limit_residual(norm_sq, &q) < 1e-6);
     }
 
     /// `P T` applied to `T f` is `P f` (T an involution), and `with_input` is one too;

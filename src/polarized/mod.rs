@@ -43,10 +43,11 @@ pub use evaluator::PshEvaluator;
 pub use image::project_image;
 pub use isotropic::{
     horizon_free_grid, isotropic_lmax, isotropic_pair_count, isotropic_pairs, isotropy_defect,
-    project_isotropic_with, IsotropicMatrix,
+    project_isotropic_with, table_grid, IsotropicMatrix, IsotropicProjection, TABLE_GRID_MIN,
 };
 pub use kernel::{ConvolutionKernel, KernelValue};
 pub use linear_basis::{off_block_fraction, rotation_coefficient_matrix, LinearBasis};
+pub(crate) use matrix::{band_limit_residual, project_operator_normed};
 pub use matrix::{project_operator, project_operator_with, MatrixKernel, PshMatrix, SpinBlock22};
 pub use rotation::PshRotation;
 pub use sparse::{SparsePshMatrix, Sparsity};

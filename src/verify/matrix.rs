@@ -20,6 +20,14 @@ pub fn checks() -> Vec<Check> {
             run: projection_exact,
         },
         Check {
+            id: "matrix.band_limit_residual",
+            source: "PSH (40); Parseval",
+            description: "the band-limit residual psh pbrdf project reports, sqrt(1 - |P_L|^2 / |P|^2) from the grid's norm of the operator: a random operator of degree 5 projected to degree 3 on the grid of band 5 against the share of its matrix entries above degree 3 (|difference|)",
+            tolerance: 1e-12,
+            proof: Some("proofs/band-limit-residual.md"),
+            run: band_limit_residual,
+        },
+        Check {
             id: "matrix.angular_vs_frequency",
             source: "PSH (39), (41)",
             description: "band-limited operator applied in the angular domain on the exact grid and projected vs the matrix-vector product, L = 3 (relative)",
@@ -195,6 +203,19 @@ fn projection_exact() -> Result<f64> {
     let m = random_psh_matrix(3, 71)?;
     let p = project_operator(&MatrixKernel(&m), 3, 3, SpinBlock22::ComplexPair)?;
     Ok(max_diff(p.data(), m.data()))
+}
+
+fn band_limit_residual() -> Result<f64> {
+    let m = random_psh_matrix(5, 73)?;
+    let (p, norm_sq) = crate::polarized::project_operator_normed(
+        &MatrixKernel(&m),
+        3,
+        5,
+        SpinBlock22::ComplexPair,
+        &crate::progress::Silent,
+    )?;
+    let got = crate::polarized::band_limit_residual(norm_sq, &p);
+    Ok((got - crate::testing::share_above(&m, 3)).abs())
 }
 
 fn angular_vs_frequency() -> Result<f64> {

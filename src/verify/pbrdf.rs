@@ -343,13 +343,14 @@ fn tables() -> Result<Vec<IsotropicMatrix>> {
             let back = read_pbsdf(&path);
             let _ = std::fs::remove_file(&path);
             let back = back?;
-            let (m, _) = project_isotropic_with(
+            let m = project_isotropic_with(
                 &[&back.channel(0)?],
                 LMAX,
                 horizon_free_grid(LMAX),
                 1e-3,
                 &Silent,
-            )?;
+            )?
+            .matrix;
             m.with_input(FieldArgument::Travel)
         })
         .collect()

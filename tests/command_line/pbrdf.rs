@@ -56,14 +56,19 @@ fn a_table_is_described_and_projected() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(report["grid_lmax"], 19);
+    let residual = report["band_limit_residual"].as_f64().unwrap();
+    assert!(residual > 0.0 && residual < 1.0, "{residual}");
     let m = psh::io::read_isotropic_npz(&npz).unwrap();
     assert_eq!((m.lmax(), m.channels()), (3, 2));
-    // The command's matrix is the library's projection of the table it read.
+    // The command's matrix is the library's projection of the table it read, on the
+    // default grid of a table.
     let read = psh::io::read_pbsdf(&path).unwrap();
     let dense = psh::polarized::project_operator(
         &read.channel(1).unwrap(),
         3,
-        3,
+        psh::polarized::table_grid(3),
         psh::polarized::SpinBlock22::ComplexPair,
     )
     .unwrap();

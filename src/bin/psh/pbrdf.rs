@@ -3,7 +3,7 @@
 
 use crate::args::writing;
 use clap::{Args, Subcommand};
-use psh::polarized::{horizon_free_grid, project_isotropic_with};
+use psh::polarized::{project_isotropic_with, table_grid};
 use psh::progress::Silent;
 use psh::stokes::MuellerField;
 use serde_json::json;
@@ -59,8 +59,10 @@ pub struct ProjectArgs {
     /// Band limit of the matrices.
     #[arg(long)]
     lmax: usize,
-    /// Band of the exact quadrature grid (default max(lmax, 2) rounded up to odd: an even
-    /// number of rings, none on the horizon, where a pBRDF steps to zero).
+    /// Band of the exact quadrature grid (default max(lmax, 19) rounded up to odd: an even
+    /// number of rings, none on the horizon, where a pBRDF steps to zero, and at least the
+    /// KAIST dataset's resolution). The JSON reports band_limit_residual: the share of the
+    /// table's norm on this grid that degrees <= lmax leave out.
     #[arg(long)]
     grid_lmax: Option<usize>,
     /// Convert the KAIST dataset's five bands (450..650 nm) to linear sRGB first, as the
@@ -124,18 +126,19 @@ fn project(a: &ProjectArgs) -> psh::Result<serde_json::Value> {
     } else {
         &read.table
     };
-    let grid = a.grid_lmax.unwrap_or(horizon_free_grid(a.lmax));
+    let grid = a.grid_lmax.unwrap_or(table_grid(a.lmax));
     let start = std::time::Instant::now();
     let channels = (0..t.wavelengths_nm().len())
         .map(|k| t.channel(k))
         .collect::<psh::Result<Vec<_>>>()?;
     let fields: Vec<&dyn MuellerField> = channels.iter().map(|c| c as _).collect();
-    let (m, defect) = project_isotropic_with(&fields, a.lmax, grid, a.tolerance, &Silent)?;
+    let p = project_isotropic_with(&fields, a.lmax, grid, a.tolerance, &Silent)?;
     let seconds = start.elapsed().as_secs_f64();
-    psh::io::write_isotropic_npz(&a.output, &m)?;
+    psh::io::write_isotropic_npz(&a.output, &p.matrix)?;
     Ok(json!({
         "input": a.table.input, "info": a.table.info, "frames": frames(&read),
-        "lmax": a.lmax, "grid_lmax": grid,
-        "channels_nm": t.wavelengths_nm(), "isotropy_defect": defect, "seconds": seconds, "output": a.output,
+        "lmax": a.lmax, "grid_lmax": grid, "channels_nm": t.wavelengths_nm(),
+        "isotropy_defect": p.isotropy_defect, "band_limit_residual": p.band_limit_residual,
+        "seconds": seconds, "output": a.output,
     }))
 }
