@@ -1255,3 +1255,39 @@ fn scene_files_for_mitsuba_comparisons() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Bare `psh` says what it can do and touches nothing; bare `psh-render` (the default run
+/// target, `cargo run --release`) is the main job: the built-in scene into ./psh-out.
+#[test]
+fn bare_psh_prints_its_commands_and_psh_render_renders() {
+    let dir = std::env::temp_dir().join(format!("psh_bare_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_psh"))
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}");
+    for command in ["render", "verify", "project", "pbrdf", "figures"] {
+        assert!(
+            text.contains(&format!("\n  {command} ")),
+            "{command}: {text}"
+        );
+    }
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        0,
+        "bare psh wrote files"
+    );
+    let out = Command::new(env!("CARGO_BIN_EXE_psh-render"))
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(dir.join("psh-out/report.json").is_file());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

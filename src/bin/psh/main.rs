@@ -3,7 +3,7 @@
 //!
 //! | command | module |
 //! |---|---|
-//! | `render` (the default), `bench-error`, `export-mitsuba` | [`render`], [`scene_jobs`] |
+//! | `render` (bare `psh-render`, the default run target), `bench-error`, `export-mitsuba` | [`render`], [`scene_jobs`] |
 //! | `project`, `rotate`, `reconstruct`, `convolve`, `apply` | [`coefficients`] |
 //! | `eval ...` (basis functions, rotations, transforms, optics) | [`eval`] |
 //! | `pbrdf info`, `pbrdf project` (measured tables) | [`pbrdf`] |
@@ -42,7 +42,9 @@ mod verify;
 #[command(
     name = "psh",
     version,
-    about = "Spherical harmonics for polarized light transport"
+    about = "Spherical harmonics for polarized light transport",
+    after_help = "Start with `psh render` (the built-in scene into ./psh-out: what \
+                  `cargo run --release` runs) or `psh verify` (the library's checks)."
 )]
 struct Cli {
     /// Memory budget for work sized by the input (bytes, or with K, M, G, T: powers of
@@ -80,14 +82,14 @@ enum Command {
     /// a PSH coefficient vector (.npz) cut to the matrix's band limit (PSH (41)), writing the
     /// reflected field as a POLAR4 .npz; both files in polarsh's convention.
     Apply(coefficients::ApplyArgs),
-    /// Measured pBRDF tables (Mitsuba 3 .pbsdf): `info`, and `project` to isotropic PSH
-    /// coefficient matrices (ISOBI2 .npz).
+    /// Measured pBRDF tables (Mitsuba 3 .pbsdf, KAIST dataset MAT-files): `info`, and
+    /// `project` to isotropic PSH coefficient matrices (ISOBI2 .npz).
     #[command(subcommand)]
     Pbrdf(pbrdf::Pbrdf),
     /// Render a scene by precomputed polarized radiance transfer (PSH Sec. 7), or by the
     /// reference renderer (--reference), or the ablation (--ablation): pictures and
-    /// report.json into a directory (the default command: the built-in scene into
-    /// ./psh-out).
+    /// report.json into a directory (without a scene: the built-in one into ./psh-out, as
+    /// `cargo run --release` and bare `psh-render` do).
     Render(render::RenderArgs),
     /// Many spherical lights: uniform grids vs a Hessian-adaptive grid (SHH Sec. 5, 6.2),
     /// errors against the per-point exact SH coefficients; writes table.md and
@@ -141,6 +143,20 @@ impl From<serde_json::Value> for Outcome {
     }
 }
 
+/// Whether this program runs as `psh-render`, the repository's default run target
+/// (`cargo run --release`): the same command line, whose bare invocation renders the
+/// built-in scene (`psh render`); bare `psh` prints its commands instead.
+fn invoked_as_render() -> bool {
+    std::env::args_os()
+        .next()
+        .and_then(|a| {
+            std::path::Path::new(&a)
+                .file_stem()
+                .map(|s| s == "psh-render")
+        })
+        .unwrap_or(false)
+}
+
 fn main() -> ExitCode {
     use clap::{CommandFactory, FromArgMatches};
     // Interrupted (SIGINT, SIGTERM, SIGHUP), psh removes its temporary files and exits:
@@ -169,7 +185,11 @@ fn main() -> ExitCode {
         psh::budget::set_budget(bytes);
     }
     let result = match cli.command {
-        None => render::run_default(),
+        None if invoked_as_render() => render::run_default(),
+        None => {
+            out!("{}", Cli::command().render_long_help());
+            return ExitCode::SUCCESS;
+        }
         Some(Command::Verify(a)) => Ok(Outcome::Exit(verify::run(&a))),
         Some(Command::Eval(e)) => eval::run(&e).map(Outcome::from),
         Some(Command::Project(a)) => coefficients::project(&a).map(Outcome::from),
