@@ -527,7 +527,7 @@ fn plot_fig19(rows: &[Row], l_max: usize, path: &Path) -> Result<()> {
     };
     let mut plot = LinePlot::new(
         &title,
-        Axis::linear("band limit l_max", (2.0, l_max.max(3) as f64)),
+        Axis::integer("band limit l_max", (2.0, l_max.max(3) as f64)),
         Axis::log("RMSE", (10f64.powf(y0), 10f64.powf(y1))),
     )?;
     for (q, color) in [[0, 0, 0], [200, 30, 30], [30, 150, 30], [30, 80, 200]]

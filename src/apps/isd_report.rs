@@ -189,7 +189,7 @@ pub fn write_isd_report(dir: &Path, top: usize, progress: &dyn Progress) -> Resu
     for pattern in [Pattern::Fibonacci, Pattern::Halton] {
         let mut plot = LinePlot::new(
             &format!("Condition number of M against L, {pattern:?} directions (ISD Fig. 13)"),
-            Axis::linear("band limit L", (0.0, (top + 1) as f64)),
+            Axis::integer("band limit L", (0.0, (top + 1) as f64)),
             Axis::linear("log10 condition number (capped at 17)", (0.0, 17.0)),
         )?;
         for profile in Profile::ALL {

@@ -1,5 +1,6 @@
-//! Line plots as PNG with the `plotters` crate: a title, labelled axes with ticks (linear
-//! or logarithmic), a grid, and a legend naming every line; text in DejaVu Sans (the
+//! Line plots as PNG with the `plotters` crate: a title, labelled axes with ticks (linear,
+//! logarithmic or integer), a grid, a marker at every point, and a legend naming every
+//! line; text in DejaVu Sans (the
 //! `dejavu` crate, so no system font is needed).
 
 use crate::error::{Error, Result};
@@ -23,8 +24,8 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
 }
 
-/// An axis: its label (with units), its range in data units and whether it is
-/// logarithmic.
+/// An axis: its label (with units), its range in data units, whether it is logarithmic
+/// and whether it counts (integer ticks only).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Axis {
     /// The axis title, with units.
@@ -33,6 +34,8 @@ pub struct Axis {
     pub range: (f64, f64),
     /// Logarithmic (`range` positive) rather than linear.
     pub log: bool,
+    /// Integer-valued (a band limit, a grid size): ticks and labels at integers only.
+    pub integer: bool,
 }
 
 impl Axis {
@@ -42,16 +45,44 @@ impl Axis {
             label: label.into(),
             range,
             log: false,
+            integer: false,
+        }
+    }
+
+    /// A linear axis of integers over `range`: ticks at integers only, at most
+    /// [`MAX_INTEGER_TICKS`] of them.
+    pub fn integer(label: &str, range: (f64, f64)) -> Self {
+        Self {
+            integer: true,
+            ..Self::linear(label, range)
         }
     }
 
     /// A logarithmic axis over `range` (positive).
     pub fn log(label: &str, range: (f64, f64)) -> Self {
         Self {
-            label: label.into(),
-            range,
             log: true,
+            ..Self::linear(label, range)
         }
+    }
+
+    /// The number of ticks to ask of `plotters`, which steps by 1, 2 or 5 times a power of
+    /// ten: on an integer axis at most one per integer (so the step is at least 1 and every
+    /// tick, a multiple of it, an integer), and at most [`MAX_INTEGER_TICKS`].
+    fn ticks(&self) -> usize {
+        if !self.integer {
+            return 10;
+        }
+        let span = (self.range.1.floor() - self.range.0.ceil()).max(1.0) as usize;
+        (span + 1).min(MAX_INTEGER_TICKS)
+    }
+
+    /// The label of tick `v`: empty where an integer axis would show a fraction.
+    fn tick(&self, v: f64) -> String {
+        if self.integer && (v - v.round()).abs() > 1e-9 {
+            return String::new();
+        }
+        tick_label(v)
     }
 
     /// Whether `v` can be drawn on this axis (finite; positive on a log axis).
@@ -59,6 +90,12 @@ impl Axis {
         v.is_finite() && (!self.log || v > 0.0)
     }
 }
+
+/// Most ticks on an integer axis.
+pub const MAX_INTEGER_TICKS: usize = 12;
+
+/// Radius in pixels of the marker drawn at every point of a line.
+const MARKER: i32 = 3;
 
 /// A titled plot of [`Series`] over two [`Axis`].
 #[derive(Clone, Debug, PartialEq)]
@@ -152,11 +189,13 @@ impl LinePlot {
             .map_err(|e| err(&e))?;
         // Ticks as `tick_label` writes them, so that a log axis over many decades gets
         // one short label per tick.
-        let label = |v: &f64| tick_label(*v);
+        let (x_tick, y_tick) = (|v: &f64| self.x.tick(*v), |v: &f64| self.y.tick(*v));
         chart
             .configure_mesh()
-            .x_label_formatter(&label)
-            .y_label_formatter(&label)
+            .x_labels(self.x.ticks())
+            .y_labels(self.y.ticks())
+            .x_label_formatter(&x_tick)
+            .y_label_formatter(&y_tick)
             .x_desc(self.x.label.as_str())
             .y_desc(self.y.label.as_str())
             .label_style((FONT, 13))
@@ -178,6 +217,10 @@ impl LinePlot {
                 }
             }
             for (k, run) in runs.into_iter().filter(|r| !r.is_empty()).enumerate() {
+                // A marker at every point: what was measured, apart from the line.
+                chart
+                    .draw_series(run.iter().map(|&p| Circle::new(p, MARKER, color.filled())))
+                    .map_err(|e| err(&e))?;
                 let drawn = if s.dashed {
                     chart.draw_series(DashedLineSeries::new(run, 8, 5, style))
                 } else {
@@ -188,7 +231,9 @@ impl LinePlot {
                     let dashed = s.dashed;
                     drawn.label(s.label.as_str()).legend(move |(x, y)| {
                         let end = if dashed { x + 8 } else { x + 22 };
-                        PathElement::new(vec![(x, y), (end, y)], style)
+                        EmptyElement::at((x, y))
+                            + PathElement::new(vec![(0, 0), (end - x, 0)], style)
+                            + Circle::new((11, 0), MARKER, color.filled())
                     });
                 }
             }
@@ -248,6 +293,17 @@ mod tests {
         )
         .is_err());
         assert!(p.rasterize(10, 10).is_err());
+    }
+
+    /// An integer axis asks for at most one tick per integer and labels no fraction.
+    #[test]
+    fn integer_axes_tick_integers() {
+        for ((lo, hi), n) in [((2.0, 9.0), 8), ((0.0, 20.0), 12), ((2.0, 3.0), 2)] {
+            assert_eq!(Axis::integer("l", (lo, hi)).ticks(), n, "{lo}..{hi}");
+        }
+        let a = Axis::integer("l", (2.0, 9.0));
+        assert_eq!((a.tick(2.2), a.tick(3.0)), (String::new(), tick_label(3.0)));
+        assert_eq!(Axis::linear("x", (0.0, 1.0)).tick(0.5), tick_label(0.5));
     }
 
     #[test]

@@ -30,7 +30,7 @@ pub fn run(out: &Path, _options: &FigureOptions) -> Result<Outcome> {
     }
     let mut plot = LinePlot::new(
         "PSH Fig. 17: rotation average of a polarized plastic",
-        Axis::linear(
+        Axis::integer(
             "Euler grid n (2n x n x 2n rotations)",
             (1.0, (LMAX + 3) as f64),
         ),
