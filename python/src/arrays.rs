@@ -107,6 +107,13 @@ fn renormalized(w: [f64; 3], name: &str) -> PyResult<[f64; 3]> {
     Ok(w.map(|c| c / norm))
 }
 
+/// What `__reduce__` returns for an object rebuilt from an array and two convention
+/// names (pickling, `copy`): the constructor, and its arguments.
+pub type Reduced<'py> = (
+    Bound<'py, PyAny>,
+    (Bound<'py, PyArrayDyn<f64>>, &'static str, &'static str),
+);
+
 /// A new numpy array of `shape` owning `data` (row-major).
 pub fn owned<'py, T: numpy::Element>(
     py: Python<'py>,

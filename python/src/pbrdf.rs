@@ -3,7 +3,7 @@
 //! form of polarsh's `ISOBI2` files (PSH (52)-(53)), their products PSH (41), and the
 //! triple products of shadowing PSH (54)-(56).
 
-use crate::arrays::{checked_len, f64_array, owned, slice};
+use crate::arrays::{checked_len, f64_array, owned, slice, Reduced};
 use crate::errors::{bad, IntoPy};
 use crate::rotation::rotation_of;
 use crate::vector::{argument_of, PshVector};
@@ -200,14 +200,7 @@ impl PshMatrix {
 
     /// Pickling, `copy.copy` and `copy.deepcopy`: `PshMatrix.from_data` of the entries and
     /// conventions.
-    #[allow(clippy::type_complexity)]
-    fn __reduce__<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<(
-        Bound<'py, PyAny>,
-        (Bound<'py, PyArrayDyn<f64>>, &'static str, &'static str),
-    )> {
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Reduced<'py>> {
         let from = py.get_type::<Self>().getattr("from_data")?;
         Ok((from, (self.data(py)?, self.input(), self.output())))
     }
@@ -353,14 +346,7 @@ impl IsotropicMatrix {
 
     /// Pickling, `copy.copy` and `copy.deepcopy`: `IsotropicMatrix.from_blocks` of the
     /// blocks and conventions.
-    #[allow(clippy::type_complexity)]
-    fn __reduce__<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<(
-        Bound<'py, PyAny>,
-        (Bound<'py, PyArrayDyn<f64>>, &'static str, &'static str),
-    )> {
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Reduced<'py>> {
         let from = py.get_type::<Self>().getattr("from_blocks")?;
         Ok((from, (self.blocks(py)?, self.input(), self.output())))
     }

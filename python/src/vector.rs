@@ -2,7 +2,7 @@
 //! codomain and argument convention, and the frame fields their Stokes vectors are
 //! read in.
 
-use crate::arrays::{checked_len, directions, f64_array, owned, slice};
+use crate::arrays::{checked_len, directions, f64_array, owned, slice, Reduced};
 use crate::errors::{bad, IntoPy};
 use crate::rotation::rotation_of;
 use numpy::prelude::*;
@@ -239,14 +239,7 @@ impl PshVector {
 
     /// Pickling, `copy.copy` and `copy.deepcopy`: the constructor, from the coefficients,
     /// codomain and argument.
-    #[allow(clippy::type_complexity)]
-    fn __reduce__<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<(
-        Bound<'py, PyAny>,
-        (Bound<'py, PyArrayDyn<f64>>, &'static str, &'static str),
-    )> {
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Reduced<'py>> {
         Ok((
             py.get_type::<Self>().into_any(),
             (self.coeffs(py)?, self.codomain(), self.argument()),
