@@ -42,8 +42,46 @@ pub struct Legend<'a> {
 }
 
 /// The narrowest canvas a picture with its legend gets (narrower pictures are padded
-/// with black on the right), so that the text fits.
-pub const LEGEND_MIN_WIDTH: usize = 440;
+/// with black on the right, so that a colour bar and its ticks fit); wider pictures keep
+/// their own width and the legend's text wraps to it.
+pub const LEGEND_MIN_WIDTH: usize = 160;
+
+/// Text sizes in pixels: panel names, the title, tick labels, flags.
+const PANEL_TEXT: u32 = 12;
+const TITLE_TEXT: u32 = 13;
+const TICK_TEXT: u32 = 11;
+const FLAG_TEXT: u32 = 12;
+/// Left margin of the title and of the flags' text.
+const TITLE_X: i32 = 8;
+const FLAG_X: i32 = 30;
+
+/// `text` in lines no wider than `width` pixels at `size` (words kept whole; a word wider
+/// than the line stands alone), measured with the font psh draws.
+fn wrap(text: &str, size: u32, width: i32) -> Result<Vec<String>> {
+    register_font()?;
+    let mut one = [0u8; 3];
+    let area = BitMapBackend::with_buffer(&mut one, (1, 1)).into_drawing_area();
+    let style = TextStyle::from((FONT, size).into_font());
+    let fits = |t: &str| {
+        area.estimate_text_size(t, &style)
+            .map(|(w, _)| w as i32 <= width)
+            .unwrap_or(true)
+    };
+    let mut lines: Vec<String> = Vec::new();
+    for word in text.split_whitespace() {
+        match lines.last_mut() {
+            Some(line) if fits(&format!("{line} {word}")) => {
+                line.push(' ');
+                line.push_str(word);
+            }
+            _ => lines.push(word.to_string()),
+        }
+    }
+    if lines.is_empty() {
+        lines.push(String::new());
+    }
+    Ok(lines)
+}
 
 const ROW: usize = 18;
 const BAR: usize = 12;
@@ -76,16 +114,30 @@ impl Legend<'_> {
         self
     }
 
-    /// The strip's height in pixels.
-    fn height(&self) -> usize {
-        let panels = if self.panels.is_empty() { 0 } else { ROW };
-        let bar = if self.bar.is_some() { BAR + ROW + 2 } else { 0 };
-        4 + panels + ROW + bar + self.flags.len() * ROW + 4
+    /// The title's and the flags' lines, wrapped to a canvas `width` pixels wide.
+    fn lines(&self, width: usize) -> Result<(Vec<String>, Vec<Vec<String>>)> {
+        let w = width as i32;
+        let title = wrap(&self.title, TITLE_TEXT, w - 2 * TITLE_X)?;
+        let flags = self
+            .flags
+            .iter()
+            .map(|(_, meaning)| wrap(meaning, FLAG_TEXT, w - FLAG_X - TITLE_X))
+            .collect::<Result<Vec<_>>>()?;
+        Ok((title, flags))
     }
 
-    /// The picture `rgb` (`w x h`, row-major) above its legend, on a canvas at least
-    /// [`LEGEND_MIN_WIDTH`] wide: the pixels and the canvas' width and height. The
-    /// picture's pixels are unchanged (row `r`, column `c` at `r * width + c`).
+    /// The strip's height in pixels on a canvas `width` pixels wide.
+    fn height(&self, width: usize) -> Result<usize> {
+        let (title, flags) = self.lines(width)?;
+        let panels = if self.panels.is_empty() { 0 } else { ROW };
+        let bar = if self.bar.is_some() { BAR + ROW + 2 } else { 0 };
+        let flag_rows: usize = flags.iter().map(Vec::len).sum();
+        Ok(4 + panels + title.len() * ROW + bar + flag_rows * ROW + 4)
+    }
+
+    /// The picture `rgb` (`w x h`, row-major) above its legend, on a canvas as wide as the
+    /// picture (at least [`LEGEND_MIN_WIDTH`]): the pixels and the canvas' width and
+    /// height. The picture's pixels are unchanged (row `r`, column `c` at `r * width + c`).
     pub fn compose(
         &self,
         rgb: &[[u8; 3]],
@@ -94,7 +146,7 @@ impl Legend<'_> {
     ) -> Result<(Vec<[u8; 3]>, usize, usize)> {
         crate::error::check_len("picture pixels", w.saturating_mul(h), rgb.len())?;
         let width = w.max(LEGEND_MIN_WIDTH);
-        let strip_h = self.height();
+        let strip_h = self.height(width)?;
         let too_big = || {
             Error::invalid(
                 "picture size",
@@ -137,18 +189,25 @@ impl Legend<'_> {
             let each = picture_w as f64 / self.panels.len() as f64;
             for (k, name) in self.panels.iter().enumerate() {
                 let x = ((k as f64 + 0.5) * each) as i32;
-                root.draw(&Text::new(name.as_str(), (x, y), text(12, HPos::Center)))
-                    .map_err(|e| err(&e))?;
+                root.draw(&Text::new(
+                    name.as_str(),
+                    (x, y),
+                    text(PANEL_TEXT, HPos::Center),
+                ))
+                .map_err(|e| err(&e))?;
             }
             y += ROW as i32;
         }
-        root.draw(&Text::new(
-            self.title.as_str(),
-            (8, y),
-            text(13, HPos::Left),
-        ))
-        .map_err(|e| err(&e))?;
-        y += ROW as i32;
+        let (title, flags) = self.lines(width as usize)?;
+        for line in &title {
+            root.draw(&Text::new(
+                line.as_str(),
+                (TITLE_X, y),
+                text(TITLE_TEXT, HPos::Left),
+            ))
+            .map_err(|e| err(&e))?;
+            y += ROW as i32;
+        }
         if let Some(bar) = &self.bar {
             let (x0, x1) = (10i32, width as i32 - 10);
             for x in x0..=x1 {
@@ -175,12 +234,12 @@ impl Legend<'_> {
                     HPos::Center
                 };
                 let at = (x, y + BAR as i32 + 5);
-                root.draw(&Text::new(label.as_str(), at, text(11, anchor)))
+                root.draw(&Text::new(label.as_str(), at, text(TICK_TEXT, anchor)))
                     .map_err(|e| err(&e))?;
             }
             y += (BAR + ROW + 2) as i32;
         }
-        for ([r, g, b], meaning) in &self.flags {
+        for (([r, g, b], _), lines) in self.flags.iter().zip(&flags) {
             root.draw(&Rectangle::new(
                 [(10, y + 2), (22, y + 14)],
                 RGBColor(*r, *g, *b).filled(),
@@ -188,13 +247,15 @@ impl Legend<'_> {
             .map_err(|e| err(&e))?;
             root.draw(&Rectangle::new([(10, y + 2), (22, y + 14)], WHITE))
                 .map_err(|e| err(&e))?;
-            root.draw(&Text::new(
-                meaning.as_str(),
-                (30, y + 2),
-                text(12, HPos::Left),
-            ))
-            .map_err(|e| err(&e))?;
-            y += ROW as i32;
+            for line in lines {
+                root.draw(&Text::new(
+                    line.as_str(),
+                    (FLAG_X, y + 2),
+                    text(FLAG_TEXT, HPos::Left),
+                ))
+                .map_err(|e| err(&e))?;
+                y += ROW as i32;
+            }
         }
         root.present().map_err(|e| err(&e))
     }
@@ -236,7 +297,7 @@ mod tests {
             .flag([255, 0, 255], "flagged");
         let (rgb, w, h) = legend.compose(&picture, 30, 20).unwrap();
         assert_eq!(w, LEGEND_MIN_WIDTH);
-        assert_eq!(h, 20 + legend.height());
+        assert_eq!(h, 20 + legend.height(w).unwrap());
         assert_eq!(rgb.len(), w * h);
         for r in 0..20 {
             assert!(rgb[r * w..r * w + 30].iter().all(|p| *p == [7, 8, 9]));
@@ -248,6 +309,30 @@ mod tests {
         assert!(strip.contains(&[255, 0, 255]));
         let e = legend.compose(&picture, 30, 21).unwrap_err();
         assert!(e.to_string().contains("picture pixels"), "{e}");
+    }
+
+    /// A picture wider than the floor keeps its width (no padding); a title longer than
+    /// the picture wraps onto more rows instead of running off the canvas.
+    #[test]
+    fn wide_pictures_keep_their_width_and_long_titles_wrap() {
+        let grey = |t: f64| [(255.0 * t) as u8; 3];
+        let long = "s0 (white: the luminance's 99th percentile) of a map two hundred and fifty-six texels wide";
+        let legend = Legend::bar(long, &grey, vec![(0.0, "0".into()), (1.0, "1".into())]);
+        let picture = vec![[7u8, 8, 9]; 256 * 10];
+        let (rgb, w, h) = legend.compose(&picture, 256, 10).unwrap();
+        assert_eq!((w, rgb.len()), (256, 256 * h));
+        let (title, _) = legend.lines(256).unwrap();
+        assert!(title.len() >= 2, "{title:?}");
+        assert_eq!(title.join(" "), long);
+        let short = Legend::bar("s0", &grey, vec![]);
+        assert!(legend.height(256).unwrap() > short.height(256).unwrap());
+        // Every line fits: measured with the font, at most the canvas minus its margins.
+        for line in &title {
+            assert!(
+                wrap(line, TITLE_TEXT, 256 - 2 * TITLE_X).unwrap().len() == 1
+                    || !line.contains(' ')
+            );
+        }
     }
 
     #[test]
