@@ -366,7 +366,7 @@ fn pprt_row(
 }
 
 /// `bench-error.json`, `bench-error.csv` and the plots `bench-error.png` and `fig19.png`
-/// into `out`.
+/// (`.svg` with [`super::plot::PlotFormat::Svg`]) into `out`.
 fn write_report(report: &BenchErrorReport, out: &Path, l_max: usize) -> Result<()> {
     write_text(
         out.join("bench-error.json"),
@@ -499,7 +499,7 @@ fn plot_error_time(rows: &[Row], path: &Path) -> Result<()> {
                 .collect(),
         });
     }
-    plot.write_png(path, 800, 600)
+    plot.write(path, 800, 600).map(drop)
 }
 
 fn plot_fig19(rows: &[Row], l_max: usize, path: &Path) -> Result<()> {
@@ -545,5 +545,5 @@ fn plot_fig19(rows: &[Row], l_max: usize, path: &Path) -> Result<()> {
                 .collect(),
         });
     }
-    plot.write_png(path, 800, 600)
+    plot.write(path, 800, 600).map(drop)
 }

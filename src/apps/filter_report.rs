@@ -142,9 +142,7 @@ pub fn write_filter_report(dir: &Path) -> Result<FilterReport> {
             (format!("psi_{stem}.png"), &psi_plot),
             (format!("psi_error_{stem}.png"), &err_plot),
         ] {
-            let path = dir.join(name);
-            plot.write_png(&path, PLOT_SIZE.0, PLOT_SIZE.1)?;
-            files.push(path);
+            files.push(plot.write(dir.join(name), PLOT_SIZE.0, PLOT_SIZE.1)?);
         }
     }
     Ok(FilterReport { files, errors })

@@ -218,8 +218,7 @@ pub fn write_isd_report(dir: &Path, top: usize, progress: &dyn Progress) -> Resu
             }
         }
         let path = dir.join(format!("condition_{pattern:?}.png").to_ascii_lowercase());
-        plot.write_png(&path, PLOT_SIZE.0, PLOT_SIZE.1)?;
-        files.push(path);
+        files.push(plot.write(&path, PLOT_SIZE.0, PLOT_SIZE.1)?);
     }
     let mut timings = Vec::new();
     let mut csv = String::from("lmax,rotations,isd_us,sh_us,ratio,max_relative_difference\n");

@@ -1,4 +1,5 @@
-//! Line plots as PNG with the `plotters` crate: a title, labelled axes with ticks (linear,
+//! Line plots as PNG or SVG ([`PlotFormat`], chosen once per process: `psh
+//! --plot-format`) with the `plotters` crate: a title, labelled axes with ticks (linear,
 //! logarithmic or integer), a grid, a marker at every point, and a legend naming every
 //! line; text in DejaVu Sans (the
 //! `dejavu` crate, so no system font is needed).
@@ -7,8 +8,9 @@ use crate::error::{Error, Result};
 use crate::io::legend::{register_font, tick_label, FONT};
 use crate::io::png::write_png;
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
+use plotters::coord::Shift;
 use plotters::prelude::*;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// One line: its legend label, colour, style and points `(x, y)` in data units (a
 /// non-finite point, or one outside a logarithmic axis, breaks the line).
@@ -91,6 +93,51 @@ impl Axis {
     }
 }
 
+/// The file format of every line plot a process writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PlotFormat {
+    /// 8-bit RGB PNG (the default).
+    Png,
+    /// SVG: vector lines and text, for papers (text in the reader's sans-serif).
+    Svg,
+}
+
+impl PlotFormat {
+    /// The file extension.
+    pub fn extension(self) -> &'static str {
+        match self {
+            PlotFormat::Png => "png",
+            PlotFormat::Svg => "svg",
+        }
+    }
+
+    /// The format named `name` (`png` or `svg`).
+    pub fn from_name(name: &str) -> Result<Self> {
+        match name {
+            "png" => Ok(PlotFormat::Png),
+            "svg" => Ok(PlotFormat::Svg),
+            _ => Err(Error::invalid(
+                "plot format",
+                crate::error::clip(name),
+                "png or svg (PDF: convert the SVG, e.g. with rsvg-convert -f pdf)",
+            )),
+        }
+    }
+}
+
+static FORMAT: std::sync::OnceLock<PlotFormat> = std::sync::OnceLock::new();
+
+/// Sets the format of the line plots this process writes (once; later calls keep the
+/// first). Without a call, PNG.
+pub fn set_plot_format(format: PlotFormat) {
+    let _ = FORMAT.set(format);
+}
+
+/// The format of the line plots this process writes.
+pub fn plot_format() -> PlotFormat {
+    FORMAT.get().copied().unwrap_or(PlotFormat::Png)
+}
+
 /// Most ticks on an integer axis.
 pub const MAX_INTEGER_TICKS: usize = 12;
 
@@ -136,6 +183,18 @@ impl LinePlot {
         })
     }
 
+    /// Error: a size below 160 x 120 or above 8192 x 8192.
+    fn rasterize_check(&self, width: usize, height: usize) -> Result<()> {
+        if width < 160 || height < 120 || width > 8192 || height > 8192 {
+            return Err(Error::invalid(
+                "plot size",
+                format!("{width} x {height}"),
+                "must be 160 x 120 to 8192 x 8192 pixels",
+            ));
+        }
+        Ok(())
+    }
+
     /// Adds a line.
     pub fn add(&mut self, series: Series) {
         self.series.push(series);
@@ -144,33 +203,44 @@ impl LinePlot {
     /// The RGB pixels (row-major, `width * height`, top row first). Error: a size below
     /// 160 x 120, or a drawing error.
     pub fn rasterize(&self, width: usize, height: usize) -> Result<Vec<[u8; 3]>> {
-        if width < 160 || height < 120 || width > 8192 || height > 8192 {
-            return Err(Error::invalid(
-                "plot size",
-                format!("{width} x {height}"),
-                "must be 160 x 120 to 8192 x 8192 pixels",
-            ));
-        }
+        self.rasterize_check(width, height)?;
         register_font()?;
         let mut buf = vec![255u8; width * height * 3];
-        let (x, y) = (self.x.range, self.y.range);
-        match (self.x.log, self.y.log) {
-            (false, false) => self.draw(&mut buf, width, height, x.0..x.1, y.0..y.1),
-            (true, false) => self.draw(&mut buf, width, height, (x.0..x.1).log_scale(), y.0..y.1),
-            (false, true) => self.draw(&mut buf, width, height, x.0..x.1, (y.0..y.1).log_scale()),
-            (true, true) => self.draw(
-                &mut buf,
-                width,
-                height,
-                (x.0..x.1).log_scale(),
-                (y.0..y.1).log_scale(),
-            ),
-        }?;
+        let root = BitMapBackend::with_buffer(&mut buf, (width as u32, height as u32));
+        self.render(root.into_drawing_area())?;
         Ok(buf.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect())
     }
 
-    /// Draws the plot into `buf` (RGB) with the coordinates `xs`, `ys`.
-    fn draw<X, Y>(&self, buf: &mut [u8], w: usize, h: usize, xs: X, ys: Y) -> Result<()>
+    /// The plot as an SVG document of `width x height` (sizes as [`Self::rasterize`]).
+    pub fn svg(&self, width: usize, height: usize) -> Result<String> {
+        self.rasterize_check(width, height)?;
+        register_font()?;
+        let mut text = String::new();
+        {
+            let root = SVGBackend::with_string(&mut text, (width as u32, height as u32));
+            self.render(root.into_drawing_area())?;
+        }
+        Ok(text)
+    }
+
+    /// Draws on `root` with the axes' coordinates (linear or logarithmic).
+    fn render<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<()> {
+        let (x, y) = (self.x.range, self.y.range);
+        match (self.x.log, self.y.log) {
+            (false, false) => self.draw(root, x.0..x.1, y.0..y.1),
+            (true, false) => self.draw(root, (x.0..x.1).log_scale(), y.0..y.1),
+            (false, true) => self.draw(root, x.0..x.1, (y.0..y.1).log_scale()),
+            (true, true) => self.draw(root, (x.0..x.1).log_scale(), (y.0..y.1).log_scale()),
+        }
+    }
+
+    /// Draws the plot on `root` with the coordinates `xs`, `ys`.
+    fn draw<DB: DrawingBackend, X, Y>(
+        &self,
+        root: DrawingArea<DB, Shift>,
+        xs: X,
+        ys: Y,
+    ) -> Result<()>
     where
         X: AsRangedCoord<Value = f64>,
         Y: AsRangedCoord<Value = f64>,
@@ -178,7 +248,6 @@ impl LinePlot {
         Y::CoordDescType: ValueFormatter<f64>,
     {
         let err = |e: &dyn std::fmt::Display| plot_error(&self.title, e);
-        let root = BitMapBackend::with_buffer(buf, (w as u32, h as u32)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| err(&e))?;
         let mut chart = ChartBuilder::on(&root)
             .caption(&self.title, (FONT, 18))
@@ -251,9 +320,16 @@ impl LinePlot {
         root.present().map_err(|e| err(&e))
     }
 
-    /// Rasterizes and writes an 8-bit RGB PNG.
-    pub fn write_png(&self, path: impl AsRef<Path>, width: usize, height: usize) -> Result<()> {
-        write_png(path, width, height, &self.rasterize(width, height)?)
+    /// Writes the plot as `path` with the extension of [`plot_format`] (an 8-bit RGB PNG,
+    /// or SVG), `width x height` pixels; returns the path written.
+    pub fn write(&self, path: impl AsRef<Path>, width: usize, height: usize) -> Result<PathBuf> {
+        let format = plot_format();
+        let path = path.as_ref().with_extension(format.extension());
+        match format {
+            PlotFormat::Png => write_png(&path, width, height, &self.rasterize(width, height)?)?,
+            PlotFormat::Svg => drop(crate::io::write_text(&path, &self.svg(width, height)?)?),
+        }
+        Ok(path)
     }
 }
 
@@ -304,6 +380,36 @@ mod tests {
         let a = Axis::integer("l", (2.0, 9.0));
         assert_eq!((a.tick(2.2), a.tick(3.0)), (String::new(), tick_label(3.0)));
         assert_eq!(Axis::linear("x", (0.0, 1.0)).tick(0.5), tick_label(0.5));
+    }
+
+    /// The SVG holds the title, the axis labels, a path per line and a marker per point;
+    /// the format's name is checked.
+    #[test]
+    fn svg_holds_the_text_and_the_lines() {
+        let mut p = LinePlot::new(
+            "an svg",
+            Axis::integer("band limit", (2.0, 9.0)),
+            Axis::log("error", (1e-4, 1.0)),
+        )
+        .unwrap();
+        p.add(Series {
+            label: "red line".into(),
+            color: [255, 0, 0],
+            dashed: false,
+            points: vec![(2.0, 0.1), (5.0, 0.01), (9.0, 1e-3)],
+        });
+        let svg = p.svg(400, 300).unwrap();
+        assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+        for text in ["an svg", "band limit", "error", "red line"] {
+            assert!(svg.contains(text), "{text}");
+        }
+        assert!(svg.matches("<circle").count() >= 3);
+        assert!(svg.contains("#FF0000"));
+        assert_eq!(PlotFormat::from_name("svg").unwrap().extension(), "svg");
+        assert!(PlotFormat::from_name("pdf")
+            .unwrap_err()
+            .to_string()
+            .contains("rsvg"));
     }
 
     #[test]

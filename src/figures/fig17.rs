@@ -42,8 +42,7 @@ pub fn run(out: &Path, _options: &FigureOptions) -> Result<Outcome> {
         dashed: false,
         points,
     });
-    let path = out.join("fig17_residual.png");
-    plot.write_png(&path, 720, 480)?;
+    let path = plot.write(out.join("fig17_residual.png"), 720, 480)?;
     Ok(Outcome {
         pictures: vec![path],
         table,

@@ -55,7 +55,11 @@ pub fn run(out: &Path, options: &FigureOptions) -> Result<Outcome> {
         "s2",
         "s3",
     ]);
-    let mut pictures = vec![dir.join("fig19.png"), dir.join("bench-error.png")];
+    let ext = crate::apps::plot::plot_format().extension();
+    let mut pictures = vec![
+        dir.join(format!("fig19.{ext}")),
+        dir.join(format!("bench-error.{ext}")),
+    ];
     let (mut measured, mut holds) = rows(&mut table, "psh reference, built-in scene", &report);
     if let Some(python) = &options.mitsuba {
         let dir = out.join("fig19_mitsuba");
@@ -78,7 +82,7 @@ pub fn run(out: &Path, options: &FigureOptions) -> Result<Outcome> {
         );
         measured += &format!("; against Mitsuba 3: {m}");
         holds &= h;
-        pictures.push(dir.join("bench").join("fig19.png"));
+        pictures.push(dir.join("bench").join(format!("fig19.{ext}")));
     }
     Ok(Outcome {
         pictures,

@@ -1291,3 +1291,53 @@ fn bare_psh_prints_its_commands_and_psh_render_renders() {
     assert!(dir.join("psh-out/report.json").is_file());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--plot-format svg`: the same plots as SVG documents (their names say so in the
+/// JSON), each holding its title and one marker per point; another format is refused.
+#[test]
+fn plots_come_as_svg_on_request() {
+    let dir = std::env::temp_dir().join(format!("psh_svg_plots_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = psh(&[
+        "--plot-format",
+        "svg",
+        "filter-report",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let plots: Vec<&str> = v["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f.as_str().unwrap())
+        .filter(|f| !f.ends_with(".csv"))
+        .collect();
+    assert_eq!(plots.len(), 2 * 15);
+    for f in plots {
+        assert!(f.ends_with(".svg"), "{f}");
+        let svg = std::fs::read_to_string(f).unwrap();
+        assert!(
+            svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"),
+            "{f}"
+        );
+        assert!(
+            svg.contains("angle of incidence") && svg.contains("<circle"),
+            "{f}"
+        );
+    }
+    let out = psh(&[
+        "--plot-format",
+        "pdf",
+        "filter-report",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

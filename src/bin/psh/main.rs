@@ -52,6 +52,10 @@ struct Cli {
     /// bytes it needs.
     #[arg(long, global = true, value_parser = psh::budget::parse_bytes)]
     max_memory: Option<u64>,
+    /// Format of the line plots written (bench-error, filter-report, isd-report, figures):
+    /// png, or svg for papers (PDF: convert the SVG)
+    #[arg(long, global = true, default_value = "png", value_parser = ["png", "svg"])]
+    plot_format: String,
     #[command(subcommand)]
     command: Option<Command>,
 }
@@ -181,6 +185,9 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    if let Ok(format) = psh::apps::plot::PlotFormat::from_name(&cli.plot_format) {
+        psh::apps::plot::set_plot_format(format);
+    }
     if let Some(bytes) = cli.max_memory {
         psh::budget::set_budget(bytes);
     }
