@@ -41,10 +41,20 @@ pub struct Legend<'a> {
     pub flags: Vec<([u8; 3], String)>,
 }
 
-/// The narrowest canvas a picture with its legend gets (narrower pictures are padded
-/// with black on the right, so that a colour bar and its ticks fit); wider pictures keep
-/// their own width and the legend's text wraps to it.
+/// The narrowest picture shown with a legend (narrower pictures are enlarged by an
+/// integer factor, [`enlargement`], so that a colour bar and its ticks fit); wider
+/// pictures keep their own width and the legend's text wraps to it.
 pub const LEGEND_MIN_WIDTH: usize = 160;
+
+/// The integer factor a picture `w` pixels wide is enlarged by in [`Legend::compose`]:
+/// the smallest that makes it at least [`LEGEND_MIN_WIDTH`] wide (1 for wider pictures).
+pub fn enlargement(w: usize) -> usize {
+    if w == 0 {
+        1
+    } else {
+        LEGEND_MIN_WIDTH.div_ceil(w)
+    }
+}
 
 /// Text sizes in pixels: panel names, the title, tick labels, flags.
 const PANEL_TEXT: u32 = 12;
@@ -136,8 +146,12 @@ impl Legend<'_> {
     }
 
     /// The picture `rgb` (`w x h`, row-major) above its legend, on a canvas as wide as the
-    /// picture (at least [`LEGEND_MIN_WIDTH`]): the pixels and the canvas' width and
-    /// height. The picture's pixels are unchanged (row `r`, column `c` at `r * width + c`).
+    /// picture: the pixels and the canvas' width and height. A picture narrower than
+    /// [`LEGEND_MIN_WIDTH`] is enlarged by the smallest integer factor `k` that reaches
+    /// it ([`enlargement`], nearest neighbour: pixel `(r, c)` fills rows `r k ..
+    /// (r + 1) k` and columns `c k .. (c + 1) k`); a wider one is unchanged (row `r`,
+    /// column `c` at `r * width + c`). Errors: `rgb` not `w * h` pixels, a canvas over
+    /// the memory budget or 2^31 pixels on a side.
     pub fn compose(
         &self,
         rgb: &[[u8; 3]],
@@ -145,8 +159,15 @@ impl Legend<'_> {
         h: usize,
     ) -> Result<(Vec<[u8; 3]>, usize, usize)> {
         crate::error::check_len("picture pixels", w.saturating_mul(h), rgb.len())?;
-        let width = w.max(LEGEND_MIN_WIDTH);
-        let strip_h = self.height(width)?;
+        let k = enlargement(w);
+        let (width, tall) = (w * k, h.saturating_mul(k));
+        let strip_h = self.height(width.max(LEGEND_MIN_WIDTH))?;
+        crate::budget::check(
+            "a picture with its legend",
+            &[width.max(LEGEND_MIN_WIDTH), tall.saturating_add(strip_h), 3],
+            1,
+        )?;
+        let width = width.max(LEGEND_MIN_WIDTH);
         let too_big = || {
             Error::invalid(
                 "picture size",
@@ -159,14 +180,20 @@ impl Legend<'_> {
             u32::try_from(strip_h).map_err(|_| too_big())?,
         );
         let mut strip = vec![0u8; width * strip_h * 3];
-        self.draw(&mut strip, w32, h32, w)?;
-        let mut out = Vec::with_capacity(width * (h + strip_h));
+        self.draw(&mut strip, w32, h32, w * k)?;
+        let mut out = Vec::with_capacity(width * (tall + strip_h));
         for row in rgb.chunks_exact(w.max(1)).take(h) {
-            out.extend_from_slice(row);
-            out.extend(std::iter::repeat_n([0u8; 3], width - w));
+            let wide: Vec<[u8; 3]> = row
+                .iter()
+                .flat_map(|&p| std::iter::repeat_n(p, k))
+                .chain(std::iter::repeat_n([0u8; 3], width - w * k))
+                .collect();
+            for _ in 0..k {
+                out.extend_from_slice(&wide);
+            }
         }
         out.extend(strip.chunks_exact(3).map(|c| [c[0], c[1], c[2]]));
-        Ok((out, width, h + strip_h))
+        Ok((out, width, tall + strip_h))
     }
 
     /// Draws the strip into `buf` (`width x height` RGB bytes); the picture above is
@@ -296,19 +323,37 @@ mod tests {
         let legend = Legend::bar("a title", &grey, vec![(0.0, "0".into()), (1.0, "1".into())])
             .flag([255, 0, 255], "flagged");
         let (rgb, w, h) = legend.compose(&picture, 30, 20).unwrap();
-        assert_eq!(w, LEGEND_MIN_WIDTH);
-        assert_eq!(h, 20 + legend.height(w).unwrap());
+        // 30 px is enlarged 6 times (180 >= 160): the picture fills the canvas' top.
+        assert_eq!((enlargement(30), w), (6, 180));
+        assert_eq!(h, 120 + legend.height(w).unwrap());
         assert_eq!(rgb.len(), w * h);
-        for r in 0..20 {
-            assert!(rgb[r * w..r * w + 30].iter().all(|p| *p == [7, 8, 9]));
-            assert!(rgb[r * w + 30..(r + 1) * w].iter().all(|p| *p == [0; 3]));
-        }
-        let strip = &rgb[20 * w..];
+        assert!(rgb[..120 * w].iter().all(|p| *p == [7, 8, 9]));
+        let strip = &rgb[120 * w..];
         // The bar runs from black to white; the flag's swatch and some text are there.
         assert!(strip.contains(&[0, 0, 0]) && strip.contains(&[255, 255, 255]));
         assert!(strip.contains(&[255, 0, 255]));
         let e = legend.compose(&picture, 30, 21).unwrap_err();
         assert!(e.to_string().contains("picture pixels"), "{e}");
+    }
+
+    /// Each pixel of an enlarged picture fills a k x k block, in place.
+    #[test]
+    fn narrow_pictures_are_enlarged_pixel_for_pixel() {
+        let picture: Vec<[u8; 3]> = (0..7 * 3).map(|i| [i as u8, 1, 2]).collect();
+        let (rgb, w, _) = Legend::bar("t", &|_| [0; 3], vec![])
+            .compose(&picture, 7, 3)
+            .unwrap();
+        let k = enlargement(7);
+        assert_eq!((k, w), (23, 161));
+        for r in 0..3 * k {
+            for c in 0..7 * k {
+                assert_eq!(rgb[r * w + c], picture[(r / k) * 7 + c / k], "{r} {c}");
+            }
+        }
+        assert_eq!(
+            (enlargement(160), enlargement(1000), enlargement(0)),
+            (1, 1, 1)
+        );
     }
 
     /// A picture wider than the floor keeps its width (no padding); a title longer than

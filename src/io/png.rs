@@ -481,13 +481,8 @@ mod tests {
         for p in &paths {
             let dec = ::png::Decoder::new(std::fs::File::open(p).unwrap());
             let info = dec.read_info().unwrap().info().clone();
-            // The picture on top, padded to the legend's width, the legend under it.
-            assert_eq!(
-                info.width as usize,
-                crate::io::LEGEND_MIN_WIDTH,
-                "{}",
-                p.display()
-            );
+            // The picture on top, enlarged 5 times (32 px to 160), the legend under it.
+            assert_eq!(info.width as usize, 32 * 5, "{}", p.display());
             assert!(info.height > 24 + 40, "{}", p.display());
         }
         let e = write_png(dir.join("no/such/dir.png"), 1, 1, &[[0; 3]]).unwrap_err();
@@ -518,7 +513,11 @@ mod tests {
                 .unwrap();
             let mut buf = vec![0; reader.output_buffer_size()];
             reader.next_frame(&mut buf).unwrap();
-            buf[..9].chunks(3).map(|c| [c[0], c[1], c[2]]).collect()
+            // The 3 x 1 picture is enlarged: its pixel c starts at column c k of row 0.
+            let k = crate::io::legend::enlargement(3);
+            (0..3)
+                .map(|c| [buf[3 * c * k], buf[3 * c * k + 1], buf[3 * c * k + 2]])
+                .collect()
         };
         let (s0, dop, aop) = (pixels("f_s0.png"), pixels("f_dop.png"), pixels("f_aop.png"));
         assert_ne!(s0[0], UNPHYSICAL);

@@ -562,8 +562,8 @@ fn ablation_writes_three_variants_side_by_side() {
     }
     let strip = std::fs::File::open(dir.join("ablation_s0.png")).unwrap();
     let info = png::Decoder::new(strip).read_info().unwrap();
-    // Three 30 x 20 panels, padded to the legend's width, the labelled legend under them.
-    assert_eq!(info.info().width as usize, psh::io::LEGEND_MIN_WIDTH);
+    // Three 30 x 20 panels, enlarged twice (90 px to 180), the labelled legend under them.
+    assert_eq!(info.info().width as usize, 180);
     assert!(info.info().height > 20 + 60);
     let e = ablation_job(
         &scene,
