@@ -42,7 +42,7 @@ pub use exr::{
 };
 pub use kaist::read_kaist;
 pub use kernel_csv::read_kernel_csv;
-pub use legend::{tick_label, ColourBar, Legend, LEGEND_MIN_WIDTH};
+pub use legend::{enlargement, tick_label, ColourBar, Legend, LEGEND_MIN_WIDTH};
 pub use mat5::{read_mat5, MatArray, MatFile};
 pub use measured::{read_measured_pbrdf, MeasuredTable};
 #[cfg(feature = "render")]
