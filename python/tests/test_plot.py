@@ -34,6 +34,11 @@ def test_stokes_image_panels_and_values():
     for panel, a in zip(panels[3:], (0, 45, 90, 135)):
         want = (0.5 * (1 + 0.5 * np.cos(np.radians(2 * a)))) ** (1 / 2.2)
         assert np.allclose(panel.images[0].get_array(), want)
+    # An image without light (s0 <= 0, or NaN) draws on the scale of 1, not of its own
+    # non-positive or NaN percentile.
+    for dark in (np.full((4, 4, 4), -1.0), np.full((4, 4, 4), np.nan)):
+        fig, panels = psh.plot.stokes_image(dark)
+        assert panels[0].images[0].get_clim() == (0, 1.0)
     with pytest.raises(ValueError, match="shape"):
         psh.plot.stokes_image(np.zeros((4, 4, 2)))
     matplotlib.pyplot.close("all")

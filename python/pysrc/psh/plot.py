@@ -79,7 +79,8 @@ def stokes_image(stokes: np.ndarray, title: Optional[str] = None,
     of panels in that order."""
     s = np.asarray(stokes, dtype=float)
     lum = _luminance(s)
-    white = np.percentile(lum[..., 0], 99) or 1.0
+    white = np.nanpercentile(lum[..., 0], 99) if np.isfinite(lum[..., 0]).any() else 1.0
+    white = white if white > 0 else 1.0  # a dark or empty image: the scale of 1
     rgb = s.ndim == 4
     h, w = lum.shape[:2]
     k = max(3, len(polarizers))
