@@ -11,6 +11,8 @@ import numpy as np
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 DATA = pathlib.Path(os.environ.get("PSH_DATA_DIR", ROOT.parent / "shared" / "data")) / "polarsh"
 sys.path.insert(0, str(ROOT / "validation"))
+# Wall-clock bounds are multiplied by this (set it on an emulated CPU, e.g. 30 under qemu).
+TIME_SCALE = float(os.environ.get("PSH_TEST_TIME_SCALE", "1"))
 
 
 def unit_directions(n, seed=0, poles=True):

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import psh
+from support import TIME_SCALE
 
 V = psh.PshVector(np.zeros((1, 9, 4)))
 BIG = psh.PshVector(np.full((1, 9, 1), 1e308), "SCALAR")
@@ -138,7 +139,7 @@ def test_ctrl_c_interrupts_a_render(tmp_path):
         # Seconds of work; the signal comes 0.3 s in (during the load or the precompute).
         psh.render(out=str(tmp_path), width=128, height=96, rays=16384, tolerance=None)
     timer.join()
-    assert time.monotonic() - start < 60
+    assert time.monotonic() - start < 60 * TIME_SCALE
     # The module still works.
     assert psh.isotropic_pairs(1)
 
@@ -157,4 +158,4 @@ def test_ctrl_c_interrupts_a_projection():
         # About a minute of work on 2 cores at lmax = 40.
         psh.project_pbrdf(psh.PolarizedPlastic(0.3, 1.5, 0.5), 40)
     timer.join()
-    assert time.monotonic() - start < 20
+    assert time.monotonic() - start < 20 * TIME_SCALE

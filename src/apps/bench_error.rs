@@ -7,7 +7,7 @@
 //! RMSE per Stokes component is over the pixels that see a surface and the three
 //! channels, in the camera's frames; the total is the root of their sum of squares.
 
-use crate::apps::plot::{Axis, LinePlot, Series};
+use crate::apps::plot::{Axis, LinePlot, Series, Stroke};
 use crate::error::{Error, Result};
 use crate::io::tick_label;
 use crate::io::write_text;
@@ -491,7 +491,7 @@ fn plot_error_time(rows: &[Row], path: &Path) -> Result<()> {
         plot.add(Series {
             label: label.into(),
             color,
-            dashed: false,
+            stroke: Stroke::Solid,
             points: rows
                 .iter()
                 .filter(|r| r.method == method && r.setting == setting)
@@ -537,7 +537,7 @@ fn plot_fig19(rows: &[Row], l_max: usize, path: &Path) -> Result<()> {
         plot.add(Series {
             label: format!("s{q}"),
             color,
-            dashed: false,
+            stroke: Stroke::Solid,
             points: full
                 .iter()
                 .filter(|r| r.rmse[q] >= floor)

@@ -16,7 +16,7 @@
 //! - `psi_error_<material>.png`: `psi~ - psi` per channel; x as above, y from -0.25 to
 //!   0.25, grid every 0.05, the darker line is 0.
 
-use crate::apps::plot::{Axis, LinePlot, Series};
+use crate::apps::plot::{Axis, LinePlot, Series, Stroke};
 use crate::error::Result;
 use crate::io::io_error;
 use crate::io::write_text;
@@ -122,19 +122,19 @@ pub fn write_filter_report(dir: &Path) -> Result<FilterReport> {
             psi_plot.add(Series {
                 label: format!("{channel} exact"),
                 color,
-                dashed: false,
+                stroke: Stroke::Solid,
                 points: points(&|i| c.psi[i]),
             });
             psi_plot.add(Series {
                 label: format!("{channel} approximation"),
                 color,
-                dashed: true,
+                stroke: Stroke::Dashed,
                 points: points(&|i| c.psi_approx[i]),
             });
             err_plot.add(Series {
                 label: channel.into(),
                 color,
-                dashed: false,
+                stroke: Stroke::Solid,
                 points: points(&|i| c.error(i)),
             });
         }

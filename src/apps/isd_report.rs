@@ -14,7 +14,7 @@
 //!   (RZH, shared Fibonacci directions, one kernel and signal) by ISD (6) and by
 //!   [`sh_rotate_dot`], on this machine, one thread.
 
-use crate::apps::plot::{Axis, LinePlot, Series};
+use crate::apps::plot::{Axis, LinePlot, Series, Stroke};
 use crate::error::Result;
 use crate::geometry::rotation_from_rotvec;
 use crate::io::io_error;
@@ -212,7 +212,11 @@ pub fn write_isd_report(dir: &Path, top: usize, progress: &dyn Progress) -> Resu
                         }
                     ),
                     color: profile_color(profile),
-                    dashed: sharing == Sharing::Shared,
+                    stroke: if sharing == Sharing::Shared {
+                        Stroke::Dashed
+                    } else {
+                        Stroke::Solid
+                    },
                     points,
                 });
             }

@@ -1,6 +1,7 @@
-//! Line plots as PNG or SVG ([`PlotFormat`], chosen once per process: `psh
-//! --plot-format`) with the `plotters` crate: a title, labelled axes with ticks (linear,
-//! logarithmic or integer), a grid, a marker at every point, and a legend naming every
+//! Line plots as PNG, SVG or PDF ([`PlotFormat`], chosen once per process: `psh
+//! --plot-format`) with the `plotters` crate (PDF from its SVG by `svg2pdf`): a title, labelled axes with ticks (linear,
+//! logarithmic or integer), a grid, a marker at every point (of series of at most
+//! [`MAX_MARKED_POINTS`]), and a legend naming every
 //! line; text in DejaVu Sans (the
 //! `dejavu` crate, so no system font is needed).
 
@@ -12,7 +13,19 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 
-/// One line: its legend label, colour, style and points `(x, y)` in data units (a
+/// How a [`Series`] joins its points (each has a marker).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stroke {
+    /// A solid line through the points.
+    Solid,
+    /// A dashed line through the points.
+    Dashed,
+    /// No line: a stem from `y = 0` (or the bottom of a logarithmic axis) to each point,
+    /// a bar chart of the values.
+    Stems,
+}
+
+/// One line: its legend label, colour, stroke and points `(x, y)` in data units (a
 /// non-finite point, or one outside a logarithmic axis, breaks the line).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Series {
@@ -20,8 +33,8 @@ pub struct Series {
     pub label: String,
     /// Line colour, 8-bit RGB.
     pub color: [u8; 3],
-    /// Dashed rather than solid.
-    pub dashed: bool,
+    /// How the points are joined.
+    pub stroke: Stroke,
     /// The points `(x, y)` in data units, drawn in order.
     pub points: Vec<(f64, f64)>,
 }
@@ -100,6 +113,8 @@ pub enum PlotFormat {
     Png,
     /// SVG: vector lines and text, for papers (text in the reader's sans-serif).
     Svg,
+    /// PDF: vector lines and text, for papers (DejaVu Sans embedded).
+    Pdf,
 }
 
 impl PlotFormat {
@@ -108,18 +123,20 @@ impl PlotFormat {
         match self {
             PlotFormat::Png => "png",
             PlotFormat::Svg => "svg",
+            PlotFormat::Pdf => "pdf",
         }
     }
 
-    /// The format named `name` (`png` or `svg`).
+    /// The format named `name` (`png`, `svg` or `pdf`).
     pub fn from_name(name: &str) -> Result<Self> {
         match name {
             "png" => Ok(PlotFormat::Png),
             "svg" => Ok(PlotFormat::Svg),
+            "pdf" => Ok(PlotFormat::Pdf),
             _ => Err(Error::invalid(
                 "plot format",
                 crate::error::clip(name),
-                "png or svg (PDF: convert the SVG, e.g. with rsvg-convert -f pdf)",
+                "png, svg or pdf",
             )),
         }
     }
@@ -143,6 +160,10 @@ pub const MAX_INTEGER_TICKS: usize = 12;
 
 /// Radius in pixels of the marker drawn at every point of a line.
 const MARKER: i32 = 3;
+
+/// The most points a series marks: a series of more is a sampled curve, drawn as a line
+/// alone (markers would merge into a thick band).
+pub const MAX_MARKED_POINTS: usize = 40;
 
 /// A titled plot of [`Series`] over two [`Axis`].
 #[derive(Clone, Debug, PartialEq)]
@@ -223,6 +244,24 @@ impl LinePlot {
         Ok(text)
     }
 
+    /// The plot as a one-page PDF document: [`Self::svg`] converted by `svg2pdf` (vector
+    /// lines, DejaVu Sans embedded), one SVG pixel to one point.
+    pub fn pdf(&self, width: usize, height: usize) -> Result<Vec<u8>> {
+        let svg = self.svg(width, height)?;
+        let err = |e: &dyn std::fmt::Display| plot_error(&self.title, e);
+        let mut options = svg2pdf::usvg::Options::default();
+        let fonts = options.fontdb_mut();
+        fonts.load_font_data(dejavu::sans::regular().to_vec());
+        fonts.set_sans_serif_family("DejaVu Sans");
+        let tree = svg2pdf::usvg::Tree::from_str(&svg, &options).map_err(|e| err(&e))?;
+        svg2pdf::to_pdf(
+            &tree,
+            svg2pdf::ConversionOptions::default(),
+            svg2pdf::PageOptions::default(),
+        )
+        .map_err(|e| err(&e))
+    }
+
     /// Draws on `root` with the axes' coordinates (linear or logarithmic).
     fn render<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<()> {
         let (x, y) = (self.x.range, self.y.range);
@@ -285,24 +324,41 @@ impl LinePlot {
                     runs.push(Vec::new());
                 }
             }
+            let base = if self.y.log { self.y.range.0 } else { 0.0 };
+            // A marker at every point (what was measured, apart from the line), unless the
+            // series is a sampled curve.
+            let marker = if s.points.len() <= MAX_MARKED_POINTS {
+                MARKER
+            } else {
+                0
+            };
             for (k, run) in runs.into_iter().filter(|r| !r.is_empty()).enumerate() {
-                // A marker at every point: what was measured, apart from the line.
-                chart
-                    .draw_series(run.iter().map(|&p| Circle::new(p, MARKER, color.filled())))
-                    .map_err(|e| err(&e))?;
-                let drawn = if s.dashed {
-                    chart.draw_series(DashedLineSeries::new(run, 8, 5, style))
-                } else {
-                    chart.draw_series(LineSeries::new(run, style))
+                if marker > 0 {
+                    chart
+                        .draw_series(run.iter().map(|&p| Circle::new(p, marker, color.filled())))
+                        .map_err(|e| err(&e))?;
+                }
+                let stroke = s.stroke;
+                let drawn = match stroke {
+                    Stroke::Solid => chart.draw_series(LineSeries::new(run, style)),
+                    Stroke::Dashed => chart.draw_series(DashedLineSeries::new(run, 8, 5, style)),
+                    Stroke::Stems => chart.draw_series(
+                        run.iter()
+                            .map(|&(x, y)| PathElement::new(vec![(x, base), (x, y)], style)),
+                    ),
                 }
                 .map_err(|e| err(&e))?;
                 if k == 0 {
-                    let dashed = s.dashed;
                     drawn.label(s.label.as_str()).legend(move |(x, y)| {
-                        let end = if dashed { x + 8 } else { x + 22 };
+                        let (first, second) = match stroke {
+                            Stroke::Solid => (vec![(0, 0), (22, 0)], vec![]),
+                            Stroke::Dashed => (vec![(0, 0), (7, 0)], vec![(15, 0), (22, 0)]),
+                            Stroke::Stems => (vec![(11, 6), (11, 0)], vec![]),
+                        };
                         EmptyElement::at((x, y))
-                            + PathElement::new(vec![(0, 0), (end - x, 0)], style)
-                            + Circle::new((11, 0), MARKER, color.filled())
+                            + PathElement::new(first, style)
+                            + PathElement::new(second, style)
+                            + Circle::new((11, 0), marker, color.filled())
                     });
                 }
             }
@@ -321,13 +377,14 @@ impl LinePlot {
     }
 
     /// Writes the plot as `path` with the extension of [`plot_format`] (an 8-bit RGB PNG,
-    /// or SVG), `width x height` pixels; returns the path written.
+    /// SVG or PDF), `width x height` pixels; returns the path written.
     pub fn write(&self, path: impl AsRef<Path>, width: usize, height: usize) -> Result<PathBuf> {
         let format = plot_format();
         let path = path.as_ref().with_extension(format.extension());
         match format {
             PlotFormat::Png => write_png(&path, width, height, &self.rasterize(width, height)?)?,
             PlotFormat::Svg => drop(crate::io::write_text(&path, &self.svg(width, height)?)?),
+            PlotFormat::Pdf => drop(crate::io::write_bytes(&path, &self.pdf(width, height)?)?),
         }
         Ok(path)
     }
@@ -348,7 +405,7 @@ mod tests {
         p.add(Series {
             label: "red".into(),
             color: [255, 0, 0],
-            dashed: false,
+            stroke: Stroke::Solid,
             points: vec![(0.0, 0.0), (90.0, 0.5), (100.0, f64::NAN)],
         });
         let rgb = p.rasterize(400, 300).unwrap();
@@ -395,7 +452,7 @@ mod tests {
         p.add(Series {
             label: "red line".into(),
             color: [255, 0, 0],
-            dashed: false,
+            stroke: Stroke::Solid,
             points: vec![(2.0, 0.1), (5.0, 0.01), (9.0, 1e-3)],
         });
         let svg = p.svg(400, 300).unwrap();
@@ -406,10 +463,103 @@ mod tests {
         assert!(svg.matches("<circle").count() >= 3);
         assert!(svg.contains("#FF0000"));
         assert_eq!(PlotFormat::from_name("svg").unwrap().extension(), "svg");
-        assert!(PlotFormat::from_name("pdf")
+        assert!(PlotFormat::from_name("eps")
             .unwrap_err()
             .to_string()
-            .contains("rsvg"));
+            .contains("png, svg or pdf"));
+    }
+
+    #[test]
+    fn sampled_curves_have_no_markers_and_stems_start_at_zero() {
+        let mut p = LinePlot::new(
+            "markers",
+            Axis::linear("x", (0.0, 200.0)),
+            Axis::linear("y", (-1.0, 1.0)),
+        )
+        .unwrap();
+        let curve = (0..=MAX_MARKED_POINTS).map(|k| (k as f64, 0.5)).collect();
+        p.add(Series {
+            label: "curve".into(),
+            color: [0, 0, 255],
+            stroke: Stroke::Solid,
+            points: curve,
+        });
+        let svg = p.svg(400, 300).unwrap();
+        assert_eq!(svg.matches(&format!("r=\"{MARKER}\"")).count(), 0, "{svg}");
+        p.add(Series {
+            label: "stems".into(),
+            color: [255, 0, 0],
+            stroke: Stroke::Stems,
+            points: vec![(50.0, 0.5), (100.0, -0.5)],
+        });
+        let svg = p.svg(400, 300).unwrap();
+        // Two markers and the legend's.
+        assert_eq!(svg.matches(&format!("r=\"{MARKER}\"")).count(), 3, "{svg}");
+        // Each stem is a vertical red path from y = 0 (the middle of the plot's height).
+        let stems: Vec<&str> = svg
+            .split("<polyline")
+            .filter(|p| p.contains("#FF0000"))
+            .collect();
+        assert!(stems.len() >= 2, "{svg}");
+    }
+
+    /// The streams of a PDF file, inflated where compressed.
+    fn pdf_streams(pdf: &[u8]) -> Vec<Vec<u8>> {
+        use std::io::Read;
+        let find = |from: usize, what: &[u8]| {
+            pdf[from..]
+                .windows(what.len())
+                .position(|w| w == what)
+                .map(|k| from + k)
+        };
+        let mut streams = Vec::new();
+        let mut at = 0;
+        while let Some(s) = find(at, b"stream\n") {
+            let start = s + b"stream\n".len();
+            let end = find(start, b"endstream").expect("a stream ends");
+            let raw = &pdf[start..end];
+            let mut inflated = Vec::new();
+            let ok = flate2::read::ZlibDecoder::new(raw)
+                .read_to_end(&mut inflated)
+                .is_ok();
+            streams.push(if ok { inflated } else { raw.to_vec() });
+            at = end + b"endstream".len();
+        }
+        streams
+    }
+
+    #[test]
+    fn pdf_is_a_page_of_vector_lines_and_embedded_text() {
+        let mut p = LinePlot::new(
+            "a pdf",
+            Axis::integer("band limit", (2.0, 9.0)),
+            Axis::log("error", (1e-4, 1.0)),
+        )
+        .unwrap();
+        p.add(Series {
+            label: "red line".into(),
+            color: [255, 0, 0],
+            stroke: Stroke::Solid,
+            points: vec![(2.0, 0.1), (5.0, 0.01), (9.0, 1e-3)],
+        });
+        let pdf = p.pdf(400, 300).unwrap();
+        assert!(pdf.starts_with(b"%PDF-"));
+        assert!(pdf.trim_ascii_end().ends_with(b"%%EOF"));
+        let text = String::from_utf8_lossy(&pdf);
+        // One SVG pixel to one point.
+        assert!(text.contains("/MediaBox [0 0 400 300]"), "{text}");
+        assert!(text.contains("/FontFile2"), "the font is embedded");
+        let content: String = pdf_streams(&pdf)
+            .iter()
+            .map(|s| String::from_utf8_lossy(s).into_owned())
+            .collect();
+        // Text drawn as text (not outlines), and the red line stroked as a vector path.
+        assert!(content.matches("Tj").count() + content.matches("TJ").count() >= 4);
+        assert!(
+            content.contains("1 0 0 SC") || content.contains("1 0 0 RG"),
+            "{content}"
+        );
+        assert_eq!(PlotFormat::from_name("pdf").unwrap().extension(), "pdf");
     }
 
     #[test]
@@ -423,7 +573,7 @@ mod tests {
         p.add(Series {
             label: "a".into(),
             color: [0, 0, 200],
-            dashed: true,
+            stroke: Stroke::Dashed,
             points: vec![(1e-2, 0.1), (0.0, 0.05), (1.0, 1e-3)],
         });
         assert!(p.rasterize(320, 240).is_ok());

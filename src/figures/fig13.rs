@@ -6,9 +6,10 @@
 
 use super::panels::diverging_bar;
 use super::{Comparison, FigureOptions, Outcome, Table};
+use crate::apps::plot::{Axis, LinePlot, Series, Stroke};
 use crate::error::Result;
 use crate::geometry::{direction, PixelGrid};
-use crate::io::{diverging, srgb8, tick_label, write_matrix_png, write_png_with_legend, Legend};
+use crate::io::{diverging, srgb8, write_matrix_png, write_png_with_legend, Legend};
 use crate::map::MapLayout;
 use crate::polarized::{visibility_transfer, visibility_transfer_quadrature, PshVector};
 use crate::sh::{lm_of_index, num_coeffs, ShEvaluator, ShTransform};
@@ -140,36 +141,25 @@ fn visibility_panel(out: &Path, v: &PshVector) -> Result<PathBuf> {
     Ok(visibility)
 }
 
-/// (b) the coefficients `v` as bars, one per `(l, m)`, in flat order.
+/// (b) the coefficients `v` as stems, one per `(l, m)`, in flat order.
 fn coefficient_panel(out: &Path, v: &PshVector) -> Result<PathBuf> {
     let n = num_coeffs(LV);
-    let cell = 8;
-    let (w, h) = (n * cell, 160);
     let vmax = v.data().iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let mut bars = vec![[255u8; 3]; w * h];
-    for (k, &x) in v.data().iter().enumerate() {
-        let (l, _) = lm_of_index(k);
-        let colour = if l % 2 == 0 {
-            [60, 90, 170]
-        } else {
-            [200, 80, 40]
-        };
-        let top = h / 2 - ((x / vmax) * (h / 2 - 4) as f64).max(0.0) as usize;
-        let bottom = h / 2 + ((-x / vmax) * (h / 2 - 4) as f64).max(0.0) as usize;
-        for y in top..=bottom.min(h - 1) {
-            for c in k * cell + 1..(k + 1) * cell - 1 {
-                bars[y * w + c] = colour;
-            }
-        }
+    let mut plot = LinePlot::new(
+        &format!("(b) visibility's SH coefficients v_lm, l <= {LV}"),
+        Axis::integer("flat index l*l + l + m", (-0.5, n as f64 - 0.5)),
+        Axis::linear("v_lm", (-1.1 * vmax, 1.1 * vmax)),
+    )?;
+    for (parity, label, color) in [(0, "even l", [60, 90, 170]), (1, "odd l", [200, 80, 40])] {
+        plot.add(Series {
+            label: label.into(),
+            color,
+            stroke: Stroke::Stems,
+            points: (0..n)
+                .filter(|&k| lm_of_index(k).0 % 2 == parity)
+                .map(|k| (k as f64, v.data()[k]))
+                .collect(),
+        });
     }
-    let none = |_: f64| [0u8; 3];
-    let mut legend = Legend::bar(
-        format!("(b) v_lm, l <= {LV}, flat order l*l + l + m (blue even l, orange odd l); the tallest bar is {}", tick_label(vmax)),
-        &none,
-        vec![(0.0, tick_label(-vmax)), (1.0, tick_label(vmax))],
-    );
-    legend.bar = None;
-    let coefficients = out.join("fig13b_coefficients.png");
-    write_png_with_legend(&coefficients, &legend, w, h, &bars)?;
-    Ok(coefficients)
+    plot.write(out.join("fig13b_coefficients"), 720, 360)
 }

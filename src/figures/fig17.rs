@@ -3,7 +3,7 @@
 //! projection onto the convolutions against n, as a table and a plot.
 
 use super::{Comparison, FigureOptions, Outcome, Table};
-use crate::apps::plot::{Axis, LinePlot, Series};
+use crate::apps::plot::{Axis, LinePlot, Series, Stroke};
 use crate::error::Result;
 use crate::optics::PolarizedPlastic;
 use crate::polarized::{project_operator, project_to_convolution, rotation_average, SpinBlock22};
@@ -39,7 +39,7 @@ pub fn run(out: &Path, _options: &FigureOptions) -> Result<Outcome> {
     plot.add(Series {
         label: format!("plastic (alpha 0.3, n 1.5, albedo 0.5), l <= {LMAX}"),
         color: [200, 40, 40],
-        dashed: false,
+        stroke: Stroke::Solid,
         points,
     });
     let path = plot.write(out.join("fig17_residual.png"), 720, 480)?;

@@ -246,23 +246,23 @@ impl Legend<'_> {
                 ))
                 .map_err(|e| err(&e))?;
             }
-            for (t, label) in &bar.ticks {
-                let x = x0 + (t.clamp(0.0, 1.0) * f64::from(x1 - x0)).round() as i32;
+            let style = text(TICK_TEXT, HPos::Left);
+            let label_width = |label: &str| {
+                root.estimate_text_size(label, &style)
+                    .map(|(w, _)| w as i32)
+                    .unwrap_or(0)
+            };
+            for (label, x, anchor) in tick_layout(&bar.ticks, (x0, x1), label_width) {
                 root.draw(&PathElement::new(
                     vec![(x, y + BAR as i32), (x, y + BAR as i32 + 3)],
                     WHITE,
                 ))
                 .map_err(|e| err(&e))?;
-                let anchor = if *t <= 0.0 {
-                    HPos::Left
-                } else if *t >= 1.0 {
-                    HPos::Right
-                } else {
-                    HPos::Center
-                };
-                let at = (x, y + BAR as i32 + 5);
-                root.draw(&Text::new(label.as_str(), at, text(TICK_TEXT, anchor)))
-                    .map_err(|e| err(&e))?;
+                if let Some(anchor) = anchor {
+                    let at = (x, y + BAR as i32 + 5);
+                    root.draw(&Text::new(label, at, text(TICK_TEXT, anchor)))
+                        .map_err(|e| err(&e))?;
+                }
             }
             y += (BAR + ROW + 2) as i32;
         }
@@ -286,6 +286,45 @@ impl Legend<'_> {
         }
         root.present().map_err(|e| err(&e))
     }
+}
+
+/// Where the ticks of a colour bar spanning pixels `x0..=x1` go: per tick `(label, x,
+/// anchor)`, the anchor `None` where the label would overlap one already placed (the end
+/// ticks first, then left to right; `width` measures a label in pixels), so that crowded
+/// labels are dropped rather than drawn over each other.
+fn tick_layout(
+    ticks: &[(f64, String)],
+    (x0, x1): (i32, i32),
+    width: impl Fn(&str) -> i32,
+) -> Vec<(&str, i32, Option<HPos>)> {
+    const GAP: i32 = 6;
+    let mut placed: Vec<(i32, i32)> = Vec::new();
+    let mut layout: Vec<(&str, i32, Option<HPos>)> = ticks
+        .iter()
+        .map(|(t, label)| {
+            let x = x0 + (t.clamp(0.0, 1.0) * f64::from(x1 - x0)).round() as i32;
+            (label.as_str(), x, None)
+        })
+        .collect();
+    let mut ends_first: Vec<usize> = (0..ticks.len()).collect();
+    ends_first.sort_by_key(|&k| !(ticks[k].0 <= 0.0 || ticks[k].0 >= 1.0));
+    for k in ends_first {
+        let (t, (label, x, _)) = (ticks[k].0, layout[k]);
+        let w = width(label);
+        let (anchor, left) = if t <= 0.0 {
+            (HPos::Left, x)
+        } else if t >= 1.0 {
+            (HPos::Right, x - w)
+        } else {
+            (HPos::Center, x - w / 2)
+        };
+        let span = (left - GAP, left + w + GAP);
+        if placed.iter().all(|&(a, b)| span.1 <= a || b <= span.0) {
+            placed.push(span);
+            layout[k].2 = Some(anchor);
+        }
+    }
+    layout
 }
 
 /// A tick label: four significant digits without trailing zeros, in exponent form outside
@@ -378,6 +417,25 @@ mod tests {
                     || !line.contains(' ')
             );
         }
+    }
+
+    #[test]
+    fn crowded_tick_labels_are_dropped_not_overlapped() {
+        let ticks: Vec<(f64, String)> = (0..=6)
+            .map(|k| (f64::from(k) / 6.0, format!("1e-{}", 6 - k)))
+            .collect();
+        // Labels 20 px wide (6 px apart): on a 100 px bar the ends and the middle fit.
+        let layout = tick_layout(&ticks, (0, 100), |_| 20);
+        let shown: Vec<&str> = layout
+            .iter()
+            .filter(|(_, _, a)| a.is_some())
+            .map(|(l, _, _)| *l)
+            .collect();
+        assert_eq!(shown, ["1e-6", "1e-3", "1e-0"]);
+        assert_eq!(layout.len(), 7, "every tick keeps its mark");
+        // On a wide bar every label fits.
+        let wide = tick_layout(&ticks, (0, 1000), |_| 30);
+        assert!(wide.iter().all(|(_, _, a)| a.is_some()));
     }
 
     #[test]

@@ -54,7 +54,8 @@ pub use npz::{
 #[cfg(feature = "render")]
 pub use obj::read_obj;
 pub use output::{
-    all_or_nothing, check_output, refuse_input, remove_partial_outputs, write_file, write_text,
+    all_or_nothing, check_output, refuse_input, remove_partial_outputs, write_bytes, write_file,
+    write_text,
 };
 pub use pbsdf::{read_pbsdf, write_pbsdf};
 pub use png::{

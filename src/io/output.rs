@@ -304,10 +304,13 @@ pub(crate) fn not_finite(path: &Path, what: String, value: f64) -> Error {
 
 /// Writes `text` to the file `path` as [`write_file`]; returns the path.
 pub fn write_text(path: impl AsRef<Path>, text: &str) -> Result<PathBuf> {
+    write_bytes(path, text.as_bytes())
+}
+
+/// Writes `bytes` to the file `path` as [`write_file`]; returns the path.
+pub fn write_bytes(path: impl AsRef<Path>, bytes: &[u8]) -> Result<PathBuf> {
     let path = path.as_ref();
-    write_file(path, |w| {
-        w.write_all(text.as_bytes()).map_err(|e| io_error(path, e))
-    })?;
+    write_file(path, |w| w.write_all(bytes).map_err(|e| io_error(path, e)))?;
     Ok(path.to_path_buf())
 }
 

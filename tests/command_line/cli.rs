@@ -1295,7 +1295,7 @@ fn bare_psh_prints_its_commands_and_psh_render_renders() {
 /// `--plot-format svg`: the same plots as SVG documents (their names say so in the
 /// JSON), each holding its title and one marker per point; another format is refused.
 #[test]
-fn plots_come_as_svg_on_request() {
+fn plots_come_as_svg_or_pdf_on_request() {
     let dir = std::env::temp_dir().join(format!("psh_svg_plots_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let out = psh(&[
@@ -1327,13 +1327,38 @@ fn plots_come_as_svg_on_request() {
             "{f}"
         );
         assert!(
-            svg.contains("angle of incidence") && svg.contains("<circle"),
+            svg.contains("angle of incidence") && svg.contains("<polyline"),
             "{f}"
         );
     }
     let out = psh(&[
         "--plot-format",
         "pdf",
+        "filter-report",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let pdfs: Vec<&str> = v["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f.as_str().unwrap())
+        .filter(|f| f.ends_with(".pdf"))
+        .collect();
+    assert_eq!(pdfs.len(), 2 * 15);
+    for f in pdfs {
+        let pdf = std::fs::read(f).unwrap();
+        assert!(pdf.starts_with(b"%PDF-") && pdf.trim_ascii_end().ends_with(b"%%EOF"));
+    }
+    let out = psh(&[
+        "--plot-format",
+        "eps",
         "filter-report",
         "--out",
         dir.to_str().unwrap(),

@@ -53,8 +53,8 @@ struct Cli {
     #[arg(long, global = true, value_parser = psh::budget::parse_bytes)]
     max_memory: Option<u64>,
     /// Format of the line plots written (bench-error, filter-report, isd-report, figures):
-    /// png, or svg for papers (PDF: convert the SVG)
-    #[arg(long, global = true, default_value = "png", value_parser = ["png", "svg"])]
+    /// png, or svg or pdf for papers
+    #[arg(long, global = true, default_value = "png", value_parser = ["png", "svg", "pdf"])]
     plot_format: String,
     #[command(subcommand)]
     command: Option<Command>,
