@@ -439,12 +439,10 @@ mod tests {
         assert_eq!(Axis::linear("x", (0.0, 1.0)).tick(0.5), tick_label(0.5));
     }
 
-    /// The SVG holds the title, the axis labels, a path per line and a marker per point;
-    /// the format's name is checked.
-    #[test]
-    fn svg_holds_the_text_and_the_lines() {
+    /// A plot titled `title` of one red line over an integer and a logarithmic axis.
+    fn red_line_plot(title: &str) -> LinePlot {
         let mut p = LinePlot::new(
-            "an svg",
+            title,
             Axis::integer("band limit", (2.0, 9.0)),
             Axis::log("error", (1e-4, 1.0)),
         )
@@ -455,6 +453,14 @@ mod tests {
             stroke: Stroke::Solid,
             points: vec![(2.0, 0.1), (5.0, 0.01), (9.0, 1e-3)],
         });
+        p
+    }
+
+    /// The SVG holds the title, the axis labels, a path per line and a marker per point;
+    /// the format's name is checked.
+    #[test]
+    fn svg_holds_the_text_and_the_lines() {
+        let p = red_line_plot("an svg");
         let svg = p.svg(400, 300).unwrap();
         assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
         for text in ["an svg", "band limit", "error", "red line"] {
@@ -530,18 +536,7 @@ mod tests {
 
     #[test]
     fn pdf_is_a_page_of_vector_lines_and_embedded_text() {
-        let mut p = LinePlot::new(
-            "a pdf",
-            Axis::integer("band limit", (2.0, 9.0)),
-            Axis::log("error", (1e-4, 1.0)),
-        )
-        .unwrap();
-        p.add(Series {
-            label: "red line".into(),
-            color: [255, 0, 0],
-            stroke: Stroke::Solid,
-            points: vec![(2.0, 0.1), (5.0, 0.01), (9.0, 1e-3)],
-        });
+        let p = red_line_plot("a pdf");
         let pdf = p.pdf(400, 300).unwrap();
         assert!(pdf.starts_with(b"%PDF-"));
         assert!(pdf.trim_ascii_end().ends_with(b"%%EOF"));

@@ -151,14 +151,20 @@ pub fn render_job(
     let t2 = Instant::now();
     let mut image = render_frame(scene, &transfer, &high, &hits, &direct)?;
     let unphysical = image.unphysical();
-    if valid_range == ValidRange::Project {
-        image.to_nearest_physical()?;
-    }
+    let per_object = image.unphysical_per_object(scene.objects().len());
+    let projected = match valid_range {
+        ValidRange::Project => {
+            let mask = image.unphysical_mask();
+            image.to_nearest_physical()?;
+            Some(mask)
+        }
+        ValidRange::Keep => None,
+    };
     let t_frame = t2.elapsed().as_secs_f64();
     // The pictures, the EXR files and the report appear together or not at all.
     let report = crate::io::all_or_nothing(&[], || {
         let t3 = Instant::now();
-        let written = write_pictures(&image, polarizers, out)?;
+        let written = write_pictures(&image, polarizers, projected.as_deref(), out)?;
         let t_out = t3.elapsed().as_secs_f64();
         let cam = scene.camera();
         let report = RenderReport {
@@ -175,6 +181,7 @@ pub fn render_job(
                 valid_range_projection: valid_range == ValidRange::Project,
             },
             unphysical_pixels: unphysical,
+            unphysical_per_object: per_object,
             counts: Counts {
                 vertices,
                 triangles: scene.triangle_count(),
@@ -255,7 +262,8 @@ pub fn reference_job(
             image: [cam.width, cam.height],
             seconds,
             unphysical_pixels: image.unphysical(),
-            pictures: write_pictures(&image, polarizers, out)?,
+            unphysical_per_object: image.unphysical_per_object(scene.objects().len()),
+            pictures: write_pictures(&image, polarizers, None, out)?,
         };
         write_json(&out.join("reference.json"), &report)?;
         Ok(report)
@@ -340,6 +348,7 @@ pub fn ablation_job(
     let pictures = write_stokes_pngs(
         &strip,
         &vec![true; strip[0].len()],
+        None,
         w * panels.len(),
         h,
         PictureNotes {

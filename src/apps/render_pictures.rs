@@ -4,7 +4,9 @@
 
 use crate::error::Result;
 use crate::io::exr::write_stokes_image;
-use crate::io::png::{srgb8, write_png_with_legend, write_stokes_pngs, PictureNotes};
+use crate::io::png::{
+    hatched, projected_note, srgb8, write_png_with_legend, write_stokes_pngs, PictureNotes,
+};
 use crate::io::{tick_label, Legend};
 use crate::pprt::render::StokesImage;
 use std::path::{Path, PathBuf};
@@ -18,22 +20,25 @@ pub(crate) const CAMERA_NOTES: PictureNotes = PictureNotes {
 
 /// `render_s{0..3}.exr`, `render_{s0,s1,s2,s3,dop,aop}.png`, `polarizer_{deg}.png` and
 /// `render_object.exr` (per pixel the index of the object seen plus one in `R, G, B`, 0
-/// for the environment: the surface mask) of `image` in `out`; returns the files written.
+/// for the environment: the surface mask) of `image` in `out`, the pixels `projected`
+/// onto the valid range PSH (70) hatched in the pictures; returns the files written.
 pub(crate) fn write_pictures(
     image: &StokesImage,
     polarizers: &[f64],
+    projected: Option<&[bool]>,
     out: &Path,
 ) -> Result<Vec<PathBuf>> {
     let mut written = write_stokes_pngs(
         &image.channels,
         &vec![true; image.width * image.height],
+        projected,
         image.width,
         image.height,
         CAMERA_NOTES,
         out.join("render"),
     )?;
     for &deg in polarizers {
-        written.push(write_polarizer_png(image, deg, out)?);
+        written.push(write_polarizer_png(image, deg, projected, out)?);
     }
     written.extend(write_stokes_image(
         &image.channels,
@@ -60,7 +65,12 @@ pub(crate) fn write_pictures(
 /// The RGB picture through a polarizer at `deg` degrees, doubled (Malus halves
 /// unpolarized light) and exposed so that the 99th percentile of the green channel's `s0`
 /// is white: unpolarized light looks as in the `s0` picture.
-fn write_polarizer_png(image: &StokesImage, deg: f64, out: &Path) -> Result<PathBuf> {
+fn write_polarizer_png(
+    image: &StokesImage,
+    deg: f64,
+    projected: Option<&[bool]>,
+    out: &Path,
+) -> Result<PathBuf> {
     let through = (0..3)
         .map(|c| image.through_polarizer(c, deg.to_radians()))
         .collect::<Result<Vec<_>>>()?;
@@ -71,11 +81,13 @@ fn write_polarizer_png(image: &StokesImage, deg: f64, out: &Path) -> Result<Path
     let negative: Vec<bool> = (0..image.width * image.height)
         .map(|k| (0..3).any(|c| through[c][k] < 0.0))
         .collect();
+    let projected_at = |k: usize| projected.is_some_and(|p| p[k]);
     let rgb: Vec<[u8; 3]> = negative
         .iter()
         .enumerate()
         .map(|(k, &flag)| match flag {
             true => crate::io::UNPHYSICAL,
+            false if projected_at(k) && hatched(k, image.width) => crate::io::UNPHYSICAL,
             false => [0, 1, 2].map(|c| srgb8(2.0 * exposure * through[c][k])),
         })
         .collect();
@@ -96,6 +108,10 @@ fn write_polarizer_png(image: &StokesImage, deg: f64, out: &Path) -> Result<Path
             crate::io::UNPHYSICAL,
             format!("negative intensity in a channel (breaks PSH (70)): {negative} pixels"),
         );
+    }
+    let projections = (0..rgb.len()).filter(|&k| projected_at(k)).count();
+    if projections > 0 {
+        legend = legend.flag(crate::io::UNPHYSICAL, projected_note(projections));
     }
     let path = out.join(format!("polarizer_{deg}.png"));
     write_png_with_legend(&path, &legend, image.width, image.height, &rgb)?;

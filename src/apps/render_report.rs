@@ -3,7 +3,7 @@
 
 use crate::polarized::SparsePshMatrix;
 use crate::pprt::plan::Plan;
-use crate::pprt::render::UnphysicalPixels;
+use crate::pprt::render::{ObjectUnphysical, UnphysicalPixels};
 use serde::Serialize;
 use std::path::PathBuf;
 
@@ -20,6 +20,8 @@ pub struct ReferenceReport {
     pub seconds: f64,
     /// Pixels breaking PSH (70) per channel.
     pub unphysical_pixels: UnphysicalPixels,
+    /// Per object, its pixels and those breaking PSH (70) in a channel.
+    pub unphysical_per_object: Vec<ObjectUnphysical>,
     /// The files written, as [`super::render_job::render_job`] writes its pictures.
     pub pictures: Vec<PathBuf>,
 }
@@ -38,8 +40,11 @@ pub struct RenderReport {
     pub high_order_projection_residual_per_material: Vec<Option<f64>>,
     /// Pixels breaking PSH (70) per channel before any projection (in the pictures:
     /// magenta in `s0`, `dop` and where a polarizer passes a negative intensity, white in
-    /// `aop`).
+    /// `aop`; hatched with magenta where the valid-range projection changed them).
     pub unphysical_pixels: UnphysicalPixels,
+    /// Per object, its pixels and those breaking PSH (70) in a channel before any
+    /// projection (a fraction of the object; projected pixels are hatched in the pictures).
+    pub unphysical_per_object: Vec<ObjectUnphysical>,
     /// Seconds per stage.
     pub times_s: Times,
     /// The files written: PNG pictures, then `render_s{0..3}.exr` and `render_object.exr`.

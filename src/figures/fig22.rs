@@ -62,6 +62,7 @@ pub fn run(out: &Path, options: &FigureOptions) -> Result<Outcome> {
         pictures.extend(write_stokes_pngs(
             &image.channels,
             &on,
+            None,
             w,
             h,
             notes,

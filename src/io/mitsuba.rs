@@ -1,7 +1,9 @@
 //! Scenes as Mitsuba 3 scene files (`psh export-mitsuba`): `scene.xml` (format 3.0.0)
-//! with one binary PLY mesh per object, the environment's intensity as a lat-long EXR in
-//! the layout of Mitsuba's `envmap` (or a `constant` emitter), directional lights,
-//! materials and the camera, so that Mitsuba renders the scene psh's reference renders
+//! with one binary PLY mesh per object, the environment (an unpolarized one's intensity
+//! as a lat-long EXR in the layout of Mitsuba's `envmap`, or a `constant` emitter; a
+//! polarized one as psh's four component files with the emitter plugin
+//! `psh_stokes_envmap` written beside, [`PLUGIN_FILE`]), directional lights, materials and
+//! the camera, so that Mitsuba renders the scene psh's reference renders
 //! (`docs/mitsuba.md`, the convention map). What Mitsuba cannot say is listed, never
 //! dropped silently ([`MitsubaExport::differences`]).
 //!
@@ -13,6 +15,10 @@
 //!   `u = (k + 1/2)/W` and row `r` at `v = r/(H - 1)`; with `to_world` taking `v` to
 //!   `(-v_z, v_x, v_y)`, texel `(r, k)` is psh's direction at `theta = pi r/(H - 1)`,
 //!   `phi = 2 pi (k + 1/2)/W`;
+//! - **polarized environment**: `psh_stokes_envmap` reads psh's map files (stored frames
+//!   `[e_theta, -e_phi, -w]`, texels piecewise constant) and emits each texel's Stokes
+//!   vector in Mitsuba's frame of the travel direction (`proofs/mitsuba-stokes-environment.md`);
+//!   its `to_world` is the map's rotation to psh's world, which is Mitsuba's;
 //! - **materials**: psh's plastic is `0.5 pplastic(specular 2, diffuse 0) + 0.5
 //!   diffuse(2 albedo)` (a `blendbsdf`: psh adds the depolarizing Lambertian without
 //!   Fresnel factors, Mitsuba's `pplastic` diffuse term has them); the conductor is
@@ -23,9 +29,12 @@ use super::exr::write_rgb_exr;
 use super::io_error;
 use super::output::{all_or_nothing, write_file, write_text};
 use crate::error::{Error, Result};
+use crate::geometry::PixelGrid;
+use crate::map::{MapLayout, StokesMap};
 use crate::optics::{Masking, MicrofacetSpecular, KAIST_BANDS_NM};
 use crate::polarized::{PshEvaluator, PshVector};
 use crate::pprt::{EnvironmentSource, Scene, SceneMaterial};
+use nalgebra::Rotation3;
 use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -119,6 +128,23 @@ pub fn export_mitsuba(
                     "    <emitter type=\"envmap\">\n        <string name=\"filename\" value=\"environment.exr\"/>\n        \
                      <transform name=\"to_world\">\n            <matrix value=\"0 0 -1 0  1 0 0 0  0 1 0 0  0 0 0 1\"/>\n        \
                      </transform>\n    </emitter>\n"
+                );
+            }
+            Environment::Stokes {
+                files: maps,
+                to_world,
+            } => {
+                files.extend(maps);
+                let plugin = dir.join(PLUGIN_FILE);
+                write_text(&plugin, PLUGIN)?;
+                files.push(plugin);
+                let m = to_world.matrix();
+                let _ = write!(
+                    xml,
+                    "    <!-- A polarized environment: register the plugin written beside this file first
+                              (import psh_stokes_envmap; psh_stokes_envmap.register()). -->
+                         <emitter type=\"psh_stokes_envmap\">\n        <string name=\"filename\" value=\"{STOKES_MAP}\"/>\n                             <transform name=\"to_world\">\n            <matrix value=\"{} {} {} 0  {} {} {} 0  {} {} {} 0  0 0 0 1\"/>\n                             </transform>\n    </emitter>\n",
+                    m[(0, 0)], m[(0, 1)], m[(0, 2)], m[(1, 0)], m[(1, 1)], m[(1, 2)], m[(2, 0)], m[(2, 1)], m[(2, 2)]
                 );
             }
             Environment::Constant([r, g, b]) => {
@@ -288,12 +314,29 @@ fn unsupported(k: usize, what: &str) -> Error {
     )
 }
 
-/// The environment as Mitsuba's emitter: a constant radiance per channel, or a lat-long
-/// map written to a file.
+/// The environment as Mitsuba's emitter: a constant radiance per channel, a lat-long
+/// map of its intensity written to a file (`envmap`), or a polarized map written as psh's
+/// four component files with the plugin that emits it (`psh_stokes_envmap`) and the
+/// rotation from the map's coordinates to the world.
 enum Environment {
     Constant([f64; 3]),
     Map(PathBuf),
+    Stokes {
+        files: Vec<PathBuf>,
+        to_world: Rotation3<f64>,
+    },
 }
+
+/// The Mitsuba 3 emitter plugin of polarized maps (`src/io/psh_stokes_envmap.py`, also the
+/// Python package's `psh.mitsuba_envmap`),
+/// written beside a scene that needs it as [`PLUGIN_FILE`].
+const PLUGIN: &str = include_str!("psh_stokes_envmap.py");
+
+/// The name the plugin is written under beside `scene.xml` (imported as a module).
+pub const PLUGIN_FILE: &str = "psh_stokes_envmap.py";
+
+/// The pattern of the polarized map's component files beside `scene.xml`.
+const STOKES_MAP: &str = "environment_s%d.exr";
 
 /// The radiance per channel of coefficients that are `f_00` of `s0` alone (a constant
 /// environment, `L = f_00 Y_00`), or `None`.
@@ -341,11 +384,7 @@ fn environment(
     differences: &mut Vec<String>,
 ) -> Result<Environment> {
     if polarized(source) {
-        differences.push(
-            "environment: Mitsuba's environments are unpolarized; s1, s2, s3 are not exported \
-             (scene file: unpolarized_environment = true renders what Mitsuba renders)"
-                .into(),
-        );
+        return stokes_environment(source, dir, rows);
     }
     if let EnvironmentSource::Coefficients(v) = source {
         if let Some(radiance) = constant_radiance(v) {
@@ -378,6 +417,48 @@ fn environment(
     let rgb = [0, 1, 2].map(|c| texels.iter().map(|t| t[c].max(0.0) as f32).collect());
     write_rgb_exr(&path, cols, rows, rgb)?;
     Ok(Environment::Map(path))
+}
+
+/// A polarized source as psh's map files for `psh_stokes_envmap`: an equirectangular map
+/// as it is (with its rotation to the world), any other source at the texel centres of an
+/// equirectangular map `rows x 2 rows` in the world's coordinates (components in the
+/// theta-phi frames there, piecewise constant over texels as psh reads maps).
+fn stokes_environment(source: &EnvironmentSource, dir: &Path, rows: usize) -> Result<Environment> {
+    let pattern = dir.join(STOKES_MAP);
+    if let EnvironmentSource::Map { map, to_world } = source {
+        if let MapLayout::Equirect(_) = map.layout() {
+            let files = super::write_stokes_map(map, &pattern)?;
+            return Ok(Environment::Stokes {
+                files,
+                to_world: *to_world,
+            });
+        }
+    }
+    let layout = MapLayout::from_image_size(rows, 2 * rows)?;
+    let field = layout.frame_field();
+    let evaluator = PshEvaluator::new(source.lmax())?;
+    let texels: Vec<Vec<[f64; 4]>> = (0..layout.len())
+        .into_par_iter()
+        .map_init(
+            || evaluator.clone(),
+            |evaluator, t| -> Result<Vec<[f64; 4]>> {
+                source
+                    .incident(evaluator, layout.direction(t))?
+                    .iter()
+                    .map(|s| Ok(s.components_in_field(&field)?.to_array()))
+                    .collect()
+            },
+        )
+        .collect::<Result<_>>()?;
+    let channels = (0..3)
+        .map(|c| texels.iter().map(|t| t[c]).collect())
+        .collect();
+    let map = StokesMap::new(layout, channels)?;
+    let files = super::write_stokes_map(&map, &pattern)?;
+    Ok(Environment::Stokes {
+        files,
+        to_world: Rotation3::identity(),
+    })
 }
 
 /// Writes a mesh as binary little-endian PLY: float positions and normals, int faces.

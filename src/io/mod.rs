@@ -59,7 +59,7 @@ pub use output::{
 };
 pub use pbsdf::{read_pbsdf, write_pbsdf};
 pub use png::{
-    diverging, srgb8, write_map_pngs, write_matrix_png, write_png, write_png_with_legend,
+    diverging, hatched, srgb8, write_map_pngs, write_matrix_png, write_png, write_png_with_legend,
     write_stokes_pngs, PictureNotes, UNPHYSICAL,
 };
 #[cfg(feature = "render")]

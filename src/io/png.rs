@@ -33,6 +33,18 @@ use std::path::{Path, PathBuf};
 /// The colour of texels that break PSH (70) in the `s0` and DoP pictures (magenta).
 pub const UNPHYSICAL: [u8; 3] = [255, 0, 255];
 
+/// Whether pixel `i` of a `w`-pixel-wide picture shows [`UNPHYSICAL`] where its value was
+/// projected onto the valid range PSH (70): a checkerboard hatch, every other pixel, so
+/// that the projected value shows between.
+pub fn hatched(i: usize, w: usize) -> bool {
+    (i % w.max(1) + i / w.max(1)).is_multiple_of(2)
+}
+
+/// The legend's words for pixels hatched by [`hatched`].
+pub fn projected_note(n: usize) -> String {
+    format!("hatched: projected onto the valid range (broke PSH (70)): {n} pixels")
+}
+
 /// Writes an 8-bit RGB image (`rgb` row-major, `width * height` pixels).
 pub fn write_png(
     path: impl AsRef<Path>,
@@ -181,23 +193,33 @@ pub fn write_map_pngs(map: &StokesMap, prefix: impl AsRef<Path>) -> Result<Vec<P
         frames: "map's stored frames",
         panels: &[],
     };
-    write_texel_pngs(texels, &on, layout.width(), layout.height(), notes, prefix)
+    write_texel_pngs(
+        texels,
+        &on,
+        None,
+        layout.width(),
+        layout.height(),
+        notes,
+        prefix,
+    )
 }
 
 /// Writes `{prefix}_s0.png`, `_s1`, `_s2`, `_s3`, `_dop` and `_aop` for an image of
 /// `w x h` pixels (row-major) given per channel (1 or 3) as Stokes components in the
-/// frames they are stored in; pixels where `on` is false are black; legends as `notes`
-/// say. Returns the paths.
+/// frames they are stored in; pixels where `on` is false are black, pixels where
+/// `projected` (if given) is true are [`hatched`] (their values were projected onto the
+/// valid range PSH (70)); legends as `notes` say. Returns the paths.
 pub fn write_stokes_pngs(
     stored: &[Vec<[f64; 4]>],
     on: &[bool],
+    projected: Option<&[bool]>,
     w: usize,
     h: usize,
     notes: PictureNotes,
     prefix: impl AsRef<Path>,
 ) -> Result<Vec<PathBuf>> {
     let texels = StokesTexels::stored(stored, w.saturating_mul(h))?;
-    write_texel_pngs(texels, on, w, h, notes, prefix)
+    write_texel_pngs(texels, on, projected, w, h, notes, prefix)
 }
 
 /// The pictures of [`write_stokes_pngs`], after the budget check
@@ -205,6 +227,7 @@ pub fn write_stokes_pngs(
 fn write_texel_pngs(
     texels: StokesTexels,
     on: &[bool],
+    projected: Option<&[bool]>,
     w: usize,
     h: usize,
     notes: PictureNotes,
@@ -212,6 +235,11 @@ fn write_texel_pngs(
 ) -> Result<Vec<PathBuf>> {
     let n = texels.len();
     crate::error::check_len("pixel mask", n, on.len())?;
+    if let Some(p) = projected {
+        crate::error::check_len("projected pixel mask", n, p.len())?;
+    }
+    let projected_at = |i: usize| projected.is_some_and(|p| p[i] && on[i]);
+    let projections = (0..n).filter(|&i| projected_at(i)).count();
     check_stokes_output(n, texels.channels())?;
     let pictures = TexelPictures {
         lum: (0..n).map(|i| luminance(&texels, i)).collect(),
@@ -225,8 +253,16 @@ fn write_texel_pngs(
         file.push(format!("_{name}.png"));
         let path = PathBuf::from(file);
         let rgb: Vec<[u8; 3]> = (0..n)
-            .map(|i| if on[i] { pixel(i) } else { [0; 3] })
+            .map(|i| match on[i] {
+                false => [0; 3],
+                true if projected_at(i) && hatched(i, w) => UNPHYSICAL,
+                true => pixel(i),
+            })
             .collect();
+        let legend = match projections {
+            0 => legend,
+            k => legend.flag(UNPHYSICAL, projected_note(k)),
+        };
         write_png_with_legend(&path, &legend, w, h, &rgb)?;
         out.push(path);
         Ok(())
@@ -505,7 +541,8 @@ mod tests {
             frames: "in some frames",
             panels: &[],
         };
-        let paths = write_stokes_pngs(&image, &[true; 3], 3, 1, notes, dir.join("f")).unwrap();
+        let paths =
+            write_stokes_pngs(&image, &[true; 3], None, 3, 1, notes, dir.join("f")).unwrap();
         let pixels = |name: &str| -> Vec<[u8; 3]> {
             let p = paths.iter().find(|p| p.ends_with(name)).unwrap();
             let mut reader = ::png::Decoder::new(std::fs::File::open(p).unwrap())

@@ -41,7 +41,7 @@ pub use plan::{MaterialPlan, Plan, Reason, StokesEvidence};
 pub use reference::{
     check_samples, Fidelity, Reference, ReferenceSettings, MAX_PIXEL_GRID, MAX_REFERENCE_SAMPLES,
 };
-pub use render::{StokesImage, UnphysicalPixels};
+pub use render::{ObjectUnphysical, StokesImage, UnphysicalPixels};
 pub use scene::{
     Camera, EnvironmentSource, Hit, Scene, SceneMaterial, SceneObject, TabulatedMaterial,
 };

@@ -90,13 +90,64 @@ pub struct UnphysicalPixels {
     pub sky_dop_above_one: [usize; 3],
 }
 
+/// The pixels of one scene object in a [`StokesImage`] and how many of them break PSH (70)
+/// in a channel (a fraction of the object, not of the image).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "apps", derive(serde::Serialize))]
+pub struct ObjectUnphysical {
+    /// The object's index in the scene.
+    pub object: usize,
+    /// Pixels that see the object.
+    pub pixels: usize,
+    /// Of those, pixels where a channel has `s0 < 0` or `|(s1, s2, s3)| > s0`.
+    pub unphysical: usize,
+    /// `unphysical / pixels` (0 for an object no pixel sees).
+    pub fraction: f64,
+}
+
+/// Whether `s` breaks PSH (70): `s0 < 0` or `|(s1, s2, s3)| > s0`.
+fn breaks_psh70(s: &[f64; 4]) -> bool {
+    s[0] < 0.0 || s[1].hypot(s[2]).hypot(s[3]) > s[0]
+}
+
 impl StokesImage {
+    /// Per pixel, whether a channel breaks PSH (70) (`s0 < 0` or `|(s1, s2, s3)| > s0`).
+    pub fn unphysical_mask(&self) -> Vec<bool> {
+        (0..self.width * self.height)
+            .map(|k| self.channels.iter().any(|c| breaks_psh70(&c[k])))
+            .collect()
+    }
+
+    /// For every object of a scene of `objects` objects, its pixels and those that break
+    /// PSH (70) in a channel ([`Self::unphysical_mask`]).
+    pub fn unphysical_per_object(&self, objects: usize) -> Vec<ObjectUnphysical> {
+        let mut per: Vec<ObjectUnphysical> = (0..objects)
+            .map(|object| ObjectUnphysical {
+                object,
+                ..Default::default()
+            })
+            .collect();
+        for (k, broken) in self.unphysical_mask().into_iter().enumerate() {
+            if let Some(o) = self.object[k].and_then(|o| per.get_mut(o)) {
+                o.pixels += 1;
+                o.unphysical += usize::from(broken);
+            }
+        }
+        for o in &mut per {
+            o.fraction = if o.pixels > 0 {
+                o.unphysical as f64 / o.pixels as f64
+            } else {
+                0.0
+            };
+        }
+        per
+    }
+
     /// The pixels that break PSH (70), per channel, on surfaces and in the sky.
     pub fn unphysical(&self) -> UnphysicalPixels {
         let mut n = UnphysicalPixels::default();
         for (c, channel) in self.channels.iter().enumerate().take(3) {
             for (s, object) in channel.iter().zip(&self.object) {
-                let p = s[1].hypot(s[2]).hypot(s[3]);
                 let (negative, above) = if object.is_some() {
                     (&mut n.surface_s0_negative, &mut n.surface_dop_above_one)
                 } else {
@@ -104,7 +155,7 @@ impl StokesImage {
                 };
                 if s[0] < 0.0 {
                     negative[c] += 1;
-                } else if p > s[0] {
+                } else if breaks_psh70(s) {
                     above[c] += 1;
                 }
             }

@@ -112,12 +112,14 @@ fn a_constant_environment_is_a_constant_emitter_and_differences_are_listed() {
     );
     assert!(xml.contains("<spectrum name=\"eta\" value=\"0.43\"/>"));
     assert!(!dir.join("environment.exr").exists());
-    // The built-in scene: a polarized sky, height-correlated masking: listed.
+    // The built-in scene: height-correlated masking is listed; its polarized sky is not
+    // (written for psh_stokes_envmap).
     let builtin = psh::pprt::builtin_scene(4, 8, 6).unwrap();
     let export = export_mitsuba(&builtin, &dir, 1, 4).unwrap();
     let all = export.differences.join("\n");
-    assert!(all.contains("unpolarized"), "{all}");
+    assert!(!all.contains("environment"), "{all}");
     assert!(all.contains("height-correlated"), "{all}");
+    assert!(dir.join("environment_s2.exr").exists() && dir.join("psh_stokes_envmap.py").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -177,8 +179,11 @@ fn a_one_position_pixel_grid_is_the_centre_render() {
 
 /// A scene file's `exr` environment is the map at its own resolution
 /// (`EnvironmentSource::Map`): the export's lat-long texels are the map's texels at their
-/// directions (turned by the file's `up`); its polarization is listed as a difference
-/// unless the scene asks for the intensity alone.
+/// directions (turned by the file's `up`). Polarized, it is written as psh's four
+/// component files for the plugin `psh_stokes_envmap` (written beside), with the same
+/// intensity and the same line of polarization (a geometric quantity) at every texel
+/// centre; with the intensity alone asked for, as Mitsuba's `envmap`. No difference either
+/// way.
 #[test]
 fn an_exr_map_environment_is_sampled_at_its_own_resolution_and_exported() {
     use psh::map::{MapLayout, StokesMap};
@@ -218,22 +223,63 @@ fn an_exr_map_environment_is_sampled_at_its_own_resolution_and_exported() {
         let to_world = *to_world;
         let out = dir.join("export");
         let export = export_mitsuba(&scene, &out, 4, 16).unwrap();
-        assert_eq!(
-            export.differences.iter().any(|d| d.contains("unpolarized")),
-            !unpolarized,
-            "{:?}",
-            export.differences
-        );
-        let texels = &environment_texels(&out);
-        for (r, k) in [(0, 0), (3, 5), (8, 31), (15, 17)] {
-            let theta = std::f64::consts::PI * r as f64 / 15.0;
-            let phi = 2.0 * std::f64::consts::PI * (k as f64 + 0.5) / 32.0;
-            let w = nalgebra::Vector3::from(psh::geometry::direction(theta, phi));
+        assert!(export.differences.is_empty(), "{:?}", export.differences);
+        let xml = std::fs::read_to_string(out.join("scene.xml")).unwrap();
+        // Psh's theta-phi frame at `w` (z = w), where the export measures the components.
+        let source_at = |w: nalgebra::Vector3<f64>| {
             let local = to_world.inverse_transform_vector(&w);
             let i = layout.texel_at(local.into()).unwrap();
-            for (c, got) in texels[r * 32 + k].iter().enumerate() {
-                let expect = (1.0 + i as f64 + 0.25 * c as f64) as f32;
-                assert_eq!(*got, expect, "texel ({r}, {k}) channel {c}");
+            use psh::geometry::FrameField;
+            let x_local = layout.frame_field().frame(local.into()).unwrap().x();
+            (i, to_world * nalgebra::Vector3::from(x_local))
+        };
+        if unpolarized {
+            assert!(xml.contains("type=\"envmap\"") && !xml.contains("psh_stokes_envmap"));
+            let texels = &environment_texels(&out);
+            for (r, k) in [(0, 0), (3, 5), (8, 31), (15, 17)] {
+                let theta = std::f64::consts::PI * r as f64 / 15.0;
+                let phi = 2.0 * std::f64::consts::PI * (k as f64 + 0.5) / 32.0;
+                let w = nalgebra::Vector3::from(psh::geometry::direction(theta, phi));
+                let (i, _) = source_at(w);
+                for (c, got) in texels[r * 32 + k].iter().enumerate() {
+                    let expect = (1.0 + i as f64 + 0.25 * c as f64) as f32;
+                    assert_eq!(*got, expect, "texel ({r}, {k}) channel {c}");
+                }
+            }
+            continue;
+        }
+        assert!(
+            xml.contains("<emitter type=\"psh_stokes_envmap\">"),
+            "{xml}"
+        );
+        assert!(xml.contains("environment_s%d.exr"), "{xml}");
+        let plugin = std::fs::read_to_string(out.join("psh_stokes_envmap.py")).unwrap();
+        assert!(plugin.contains("def register("));
+        // The cube cross is resampled at the centres of a 16 x 32 lat-long map in the
+        // world's coordinates (the emitter's to_world the identity).
+        assert!(xml.contains("<matrix value=\"1 0 0 0  0 1 0 0  0 0 1 0  0 0 0 1\"/>"));
+        let written = psh::io::read_stokes_map(out.join("environment_s%d.exr")).unwrap();
+        let grid = written.layout().clone();
+        assert_eq!((grid.height(), grid.width()), (16, 32));
+        for t in [0, 37, 100, 263, 511] {
+            use psh::geometry::PixelGrid;
+            let w = nalgebra::Vector3::from(grid.direction(t));
+            let (i, line) = source_at(w);
+            for (c, got) in written.incident(w.into()).unwrap().iter().enumerate() {
+                let s0 = 1.0 + i as f64 + 0.25 * c as f64;
+                assert!((got.s0() - s0).abs() < 1e-5 * s0, "texel {t}: {got:?}");
+                let p = got.components().to_array();
+                let degree = p[1].hypot(p[2]) / p[0];
+                assert!(
+                    (degree - 0.1).abs() < 1e-6 && p[3] == 0.0,
+                    "texel {t}: {p:?}"
+                );
+                // The same line of polarization: the source's x axis (s1 > 0, s2 = 0).
+                let d = got.linear_polarization_direction().unwrap();
+                assert!(
+                    (d.dot(&line).abs() - 1.0).abs() < 1e-6,
+                    "texel {t}: {d} vs {line}"
+                );
             }
         }
     }

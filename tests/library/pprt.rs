@@ -370,15 +370,17 @@ fn the_background_is_the_environment_itself() {
     assert!(unphysical(&band_limited) > 0);
 }
 
-/// The render job counts the pixels that break PSH (70) before any projection, and with
-/// `valid_range` leaves none (PSH Fig. 22), valid pixels untouched.
+/// The render job counts the pixels that break PSH (70) before any projection, per
+/// channel and per object, and with `valid_range` leaves none (PSH Fig. 22), valid pixels
+/// untouched; its pictures hatch the projected pixels (every other one in magenta).
 #[test]
 fn the_valid_range_projection_leaves_no_unphysical_pixel() {
     use psh::apps::render_job::render_job;
     use psh::apps::ValidRange;
     use psh::pprt::UnphysicalPixels;
     let dir = std::env::temp_dir().join(format!("psh_valid_range_{}", std::process::id()));
-    let scene = builtin_scene(9, 64, 48).unwrap();
+    // 160 pixels wide: pictures at their own size (narrower ones are enlarged).
+    let scene = builtin_scene(9, 160, 120).unwrap();
     let settings = TransferSettings::default();
     let job = |valid: ValidRange, name: &str| {
         render_job(
@@ -406,17 +408,48 @@ fn the_valid_range_projection_leaves_no_unphysical_pixel() {
     );
     assert_eq!(valid.unphysical(), UnphysicalPixels::default());
     // Through a polarizer a negative intensity is flagged; valid vectors pass none.
-    let flagged = |name: &str| {
-        let file = std::fs::File::open(dir.join(name).join("polarizer_0.png")).unwrap();
+    // Per object: every surface pixel that breaks PSH (70) in a channel, counted once.
+    let mask = raw.unphysical_mask();
+    let per_object = &raw_report.unphysical_per_object;
+    assert_eq!(per_object, &valid_report.unphysical_per_object);
+    assert_eq!(per_object.len(), scene.objects().len());
+    let surface_broken = (0..mask.len())
+        .filter(|&k| mask[k] && raw.object[k].is_some())
+        .count();
+    assert_eq!(
+        per_object.iter().map(|o| o.unphysical).sum::<usize>(),
+        surface_broken
+    );
+    for o in per_object {
+        let seen = raw.object.iter().filter(|&&x| x == Some(o.object)).count();
+        assert_eq!(o.pixels, seen);
+        assert!((o.fraction - o.unphysical as f64 / seen.max(1) as f64).abs() < 1e-15);
+    }
+    // The pixels of a picture in the flag's colour (within its legend's rows: the
+    // picture's own rows come first).
+    let flagged = |name: &str, picture: &str| -> Vec<usize> {
+        let file = std::fs::File::open(dir.join(name).join(picture)).unwrap();
         let mut reader = png::Decoder::new(file).read_info().unwrap();
         let mut buf = vec![0; reader.output_buffer_size()];
         reader.next_frame(&mut buf).unwrap();
+        let w = reader.info().width as usize;
+        assert_eq!(w, raw.width, "the picture keeps its width");
         buf.chunks(3)
-            .filter(|p| *p == psh::io::UNPHYSICAL.as_slice())
-            .count()
+            .take(raw.width * raw.height)
+            .enumerate()
+            .filter(|(_, p)| *p == psh::io::UNPHYSICAL.as_slice())
+            .map(|(k, _)| k)
+            .collect()
     };
-    assert!(flagged("raw") > 0);
-    assert_eq!(flagged("valid"), 0);
+    assert!(!flagged("raw", "polarizer_0.png").is_empty());
+    // Projected: exactly the hatched half of the pixels that broke PSH (70), in the DoP
+    // and polarizer pictures alike.
+    let hatched: Vec<usize> = (0..mask.len())
+        .filter(|&k| mask[k] && psh::io::hatched(k, raw.width))
+        .collect();
+    assert!(!hatched.is_empty());
+    assert_eq!(flagged("valid", "polarizer_0.png"), hatched);
+    assert_eq!(flagged("valid", "render_dop.png"), hatched);
     for (a, b) in raw
         .channels
         .iter()

@@ -9,7 +9,7 @@ use psh::apps::{
     AblationReport, ImageSize, JobReport, ReferenceReport, RenderJob, RenderReport, Renderer,
     Shadows, ValidRange,
 };
-use psh::pprt::{high_orders_from_number, Planning, UnphysicalPixels};
+use psh::pprt::{high_orders_from_number, ObjectUnphysical, Planning, UnphysicalPixels};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -173,12 +173,13 @@ impl Summary for JobReport {
 impl Summary for ReferenceReport {
     fn summary(&self, name: &str, out: &Path) -> String {
         format!(
-            "rendered {name}, {} x {}, by the reference renderer at {} directions per pixel in {:.2} s; pictures and reference.json in {}\n",
+            "rendered {name}, {} x {}, by the reference renderer at {} directions per pixel in {:.2} s; pictures and reference.json in {}\n{}",
             self.image[0],
             self.image[1],
             self.samples_per_pixel,
             self.seconds,
-            out.display()
+            out.display(),
+            object_lines(&self.unphysical_per_object)
         )
     }
 }
@@ -220,6 +221,7 @@ impl Summary for RenderReport {
         );
         let pixels = (st.image[0] * st.image[1]).max(1) as f64;
         text += &unphysical_lines(&self.unphysical_pixels, pixels, st.valid_range_projection);
+        text += &object_lines(&self.unphysical_per_object);
         text += &format!(
             "  {} pictures in {}: render_s0.png (intensity), render_dop.png, render_aop.png, polarizer_*.png, render_s{{0,1,2,3}}.exr\n",
             self.pictures.len(),
@@ -230,6 +232,31 @@ impl Summary for RenderReport {
             out.join("report.json").display()
         )
     }
+}
+
+/// Per object, the share of its pixels breaking PSH (70) in a channel.
+fn object_lines(objects: &[ObjectUnphysical]) -> String {
+    let shares: Vec<String> = objects
+        .iter()
+        .filter(|o| o.pixels > 0)
+        .map(|o| {
+            format!(
+                "object {} {:.2}% ({} of {})",
+                o.object,
+                100.0 * o.fraction,
+                o.unphysical,
+                o.pixels
+            )
+        })
+        .collect();
+    if shares.is_empty() {
+        return String::new();
+    }
+    format!(
+        "  per object, pixels breaking PSH (70) in a channel: {}
+",
+        shares.join(", ")
+    )
 }
 
 /// The pixels breaking PSH (70) on surfaces and in the sky, per channel and as a share of
@@ -255,8 +282,8 @@ fn unphysical_lines(u: &UnphysicalPixels, pixels: f64, projected: bool) -> Strin
         text += &format!(
             "  pixels breaking PSH (70) {place}{} (R / G / B): s0 < 0 {n} ({np:.2}%), DoP > 1 {d} ({dp:.2}%){}\n",
             if projected { " before the projection" } else { "" },
-            if projected {
-                ", none in the pictures (projected onto the valid range; --no-valid-range keeps them)"
+            if projected && np + dp > 0.0 {
+                ", hatched in the pictures (projected onto the valid range; --no-valid-range keeps them)"
             } else if np + dp > 0.0 {
                 ", magenta in the pictures"
             } else {

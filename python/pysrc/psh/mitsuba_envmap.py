@@ -1,0 +1,1 @@
+../../../src/io/psh_stokes_envmap.py
