@@ -17,8 +17,12 @@ def test_readme_snippet_runs_from_any_directory(tmp_path, monkeypatch, data, cap
     (block,) = blocks_of("README.md")
     monkeypatch.chdir(tmp_path)
     monkeypatch.setenv("PSH_DATA_DIR", str(DATA.parent))
-    exec(compile(block, "README.md", "exec"), {})
-    assert "[[[" in capsys.readouterr().out  # the (channels, 1, 4) array printed
+    scope = {}
+    exec(compile(block, "README.md", "exec"), scope)
+    assert "[[" in capsys.readouterr().out  # the (channels, 4) array printed
+    assert scope["s"].shape == (3, 4)
+    # What README says of it: a DoP of 1.01, above 1 (PSH (70) broken by the band limit).
+    assert all(1.005 < d < 1.015 for d in scope["dop"]), scope["dop"]
 
 
 def test_quickstart_runs_as_written(tmp_path, monkeypatch, data):
