@@ -278,6 +278,11 @@ def table(result):
     return lines
 
 
+def section(key, heading, result, text):
+    """The lines of docs/mitsuba.md for scene `key`: heading, table, text."""
+    return [f"## {SCENES[key].name}: {heading}", ""] + table(result) + ["", text, ""]
+
+
 POLARIZED_TEXT = (
     "Objects: 0 the GGX conductor (alpha 0.2), 1 the bare dielectric reflection (alpha "
     "0.15), 2 the plastic (alpha 0.3, albedo 0.4). The environment is polarized: Mitsuba "
@@ -389,16 +394,9 @@ def test_fig19_against_mitsuba(psh, record):
         "within 0.1% since the mirrored outputs (3.5% too bright before).",
         "",
     ]
-    polarized_sky = compare_scene(psh, record, "polarized_sky")
-    lines += [
-        f"## {SCENES['polarized_sky'].name}: polarized sky on a conductor, a dielectric and "
-        "a plastic sphere",
-        "",
-    ] + table(polarized_sky) + [
-        "",
-        POLARIZED_TEXT,
-        "",
-    ]
+    lines += section("polarized_sky", "polarized sky on a conductor, a dielectric and a "
+                     "plastic sphere", compare_scene(psh, record, "polarized_sky"),
+                     POLARIZED_TEXT)
     if (DATA / "polarsh" / "buddha.obj").exists():
         buddha = compare_scene(psh, record, "buddha")
         lines += [
@@ -422,18 +420,12 @@ def test_fig19_against_mitsuba(psh, record):
             "of 0.043 at l_low 6 against psh's reference).",
             "",
         ]
-        polarized_sponza = compare_scene(psh, record, "polarized_sponza")
-        lines += [
-            f"## {SCENES['polarized_sponza'].name}: the polarized Sponza map on the three "
-            "spheres",
-            "",
-        ] + table(polarized_sponza) + [
-            "",
+        lines += section(
+            "polarized_sponza", "the polarized Sponza map on the three spheres",
+            compare_scene(psh, record, "polarized_sponza"),
             "The shared Sponza cube map with its polarization (64 x 64 faces), sampled at its "
             "own resolution by psh and resampled by the export to a 2048 x 1024 lat-long map "
-            "for the plugin. " + POLARIZED_TEXT,
-            "",
-        ]
+            "for the plugin. " + POLARIZED_TEXT)
     else:
         lines += [f"Buddha and the spheres under Sponza: skipped, no shared data at {DATA}.",
                   ""]

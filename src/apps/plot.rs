@@ -1,9 +1,8 @@
 //! Line plots as PNG, SVG or PDF ([`PlotFormat`], chosen once per process: `psh
-//! --plot-format`) with the `plotters` crate (PDF from its SVG by `svg2pdf`): a title, labelled axes with ticks (linear,
-//! logarithmic or integer), a grid, a marker at every point (of series of at most
-//! [`MAX_MARKED_POINTS`]), and a legend naming every
-//! line; text in DejaVu Sans (the
-//! `dejavu` crate, so no system font is needed).
+//! --plot-format`) with the `plotters` crate (PDF from its SVG by `svg2pdf`): a title,
+//! labelled axes with ticks (linear, logarithmic or integer), a grid, a marker at every
+//! point (of series of at most [`MAX_MARKED_POINTS`]), and a legend naming every line;
+//! text in DejaVu Sans (the `dejavu` crate, so no system font is needed).
 
 use crate::error::{Error, Result};
 use crate::io::legend::{register_font, tick_label, FONT};
@@ -355,10 +354,12 @@ impl LinePlot {
                             Stroke::Dashed => (vec![(0, 0), (7, 0)], vec![(15, 0), (22, 0)]),
                             Stroke::Stems => (vec![(11, 6), (11, 0)], vec![]),
                         };
+                        // A sampled curve's legend has no marker (a transparent one).
+                        let dot = color.mix(if marker > 0 { 1.0 } else { 0.0 }).filled();
                         EmptyElement::at((x, y))
                             + PathElement::new(first, style)
                             + PathElement::new(second, style)
-                            + Circle::new((11, 0), marker, color.filled())
+                            + Circle::new((11, 0), MARKER, dot)
                     });
                 }
             }
@@ -499,14 +500,36 @@ mod tests {
             points: vec![(50.0, 0.5), (100.0, -0.5)],
         });
         let svg = p.svg(400, 300).unwrap();
-        // Two markers and the legend's.
-        assert_eq!(svg.matches(&format!("r=\"{MARKER}\"")).count(), 3, "{svg}");
-        // Each stem is a vertical red path from y = 0 (the middle of the plot's height).
-        let stems: Vec<&str> = svg
+        // Two markers and the stems' legend's; the curve's legend draws none (its
+        // transparent marker is not written).
+        assert_eq!(svg.matches("<circle").count(), 3, "{svg}");
+        // The stems: vertical red paths, one from the value 0.5 and one from -0.5 down or
+        // up to the same base, the pixel row of y = 0, halfway between them.
+        let stems: Vec<[(f64, f64); 2]> = svg
             .split("<polyline")
             .filter(|p| p.contains("#FF0000"))
+            .filter_map(|p| {
+                let points = p.split("points=\"").nth(1)?.split('"').next()?;
+                let xy: Vec<(f64, f64)> = points
+                    .split_whitespace()
+                    .map(|q| {
+                        let (x, y) = q.split_once(',').unwrap();
+                        (x.parse().unwrap(), y.parse().unwrap())
+                    })
+                    .collect();
+                (xy.len() == 2 && xy[0].0 == xy[1].0).then(|| [xy[0], xy[1]])
+            })
             .collect();
-        assert!(stems.len() >= 2, "{svg}");
+        assert_eq!(stems.len(), 3, "two stems and the legend's: {svg}");
+        // The series are drawn before the legend.
+        let plotted = &stems[..2];
+        let (base, up, down) = (plotted[0][0].1, plotted[0][1].1, plotted[1][1].1);
+        assert_eq!(plotted[1][0].1, base, "both stems start at y = 0");
+        assert!(up < base && down > base, "{up} {base} {down}");
+        assert!(
+            (base - (up + down) / 2.0).abs() <= 1.0,
+            "{up} {base} {down}"
+        );
     }
 
     /// The streams of a PDF file, inflated where compressed.

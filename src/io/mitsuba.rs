@@ -141,9 +141,14 @@ pub fn export_mitsuba(
                 let m = to_world.matrix();
                 let _ = write!(
                     xml,
-                    "    <!-- A polarized environment: register the plugin written beside this file first
-                              (import psh_stokes_envmap; psh_stokes_envmap.register()). -->
-                         <emitter type=\"psh_stokes_envmap\">\n        <string name=\"filename\" value=\"{STOKES_MAP}\"/>\n                             <transform name=\"to_world\">\n            <matrix value=\"{} {} {} 0  {} {} {} 0  {} {} {} 0  0 0 0 1\"/>\n                             </transform>\n    </emitter>\n",
+                    "    <!-- A polarized environment: register the plugin written beside this file\n         \
+                     first (import psh_stokes_envmap; psh_stokes_envmap.register()), and after\n         \
+                     loading give it the scene (emitter.set_scene(scene)) for its shadow rays. -->\n    \
+                     <emitter type=\"psh_stokes_envmap\">\n        \
+                     <string name=\"filename\" value=\"{STOKES_MAP}\"/>\n        \
+                     <transform name=\"to_world\">\n            \
+                     <matrix value=\"{} {} {} 0  {} {} {} 0  {} {} {} 0  0 0 0 1\"/>\n        \
+                     </transform>\n    </emitter>\n",
                     m[(0, 0)], m[(0, 1)], m[(0, 2)], m[(1, 0)], m[(1, 1)], m[(1, 2)], m[(2, 0)], m[(2, 1)], m[(2, 2)]
                 );
             }

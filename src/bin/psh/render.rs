@@ -253,8 +253,7 @@ fn object_lines(objects: &[ObjectUnphysical]) -> String {
         return String::new();
     }
     format!(
-        "  per object, pixels breaking PSH (70) in a channel: {}
-",
+        "  per object, pixels breaking PSH (70) in a channel: {}\n",
         shares.join(", ")
     )
 }
