@@ -24,7 +24,8 @@ fn to_python<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bo
 /// `tolerance` plans what the scene needs (`None`: compute everything),
 /// `valid_range=True` projects every pixel onto the physically valid range PSH (70) (PSH
 /// Fig. 22; `False` keeps the transport's vectors), `window` ("none", "hann", "lanczos")
-/// tapers the environment's band limit, `sun` ("lobe", "directional") says how the
+/// tapers the environment's band limit (`None`: the scene file's, none for the built-in
+/// scene), `sun` ("lobe", "directional") says how the
 /// analytic sky carries its sun (the scene's by default). The defaults are `psh
 /// render`'s (`psh::apps::RenderJob::default`). Returns `(stokes, report)`: the image
 /// `(height, width, 3, 4)` (row 0 at the top; channels R, G, B; Stokes components s0..s3
@@ -34,10 +35,10 @@ fn to_python<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bo
 #[pyo3(signature = (scene = None, out = PathBuf::from(RenderJob::OUT), width = ImageSize::RENDER.width,
     height = ImageSize::RENDER.height, l_low = None, l_high = None, rays = None, shadows = true,
     tolerance = Some(RenderJob::TOLERANCE), polarizers = RenderJob::POLARIZERS_DEG.to_vec(),
-    valid_range = true, window = Window::None.name().to_string(), sun = None),
+    valid_range = true, window = None, sun = None),
     text_signature = "(scene=None, out='psh-out', width=480, height=360, l_low=None, \
     l_high=None, rays=None, shadows=True, tolerance=0.001, polarizers=[0.0, 45.0, 90.0, \
-    135.0], valid_range=True, window='none', sun=None)")]
+    135.0], valid_range=True, window=None, sun=None)")]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -52,14 +53,18 @@ fn render<'py>(
     tolerance: Option<f64>,
     polarizers: Vec<f64>,
     valid_range: bool,
-    window: String,
+    window: Option<String>,
     sun: Option<String>,
 ) -> PyResult<(Bound<'py, PyArrayDyn<f64>>, Bound<'py, PyAny>)> {
     checked_len("image", &[3, width, height, 4])?;
     let mut job = RenderJob::default();
     job.scene.file = scene;
     job.scene.size = ImageSize { width, height };
-    job.scene.window = Window::from_name(&window).py_err()?;
+    job.scene.window = window
+        .as_deref()
+        .map(Window::from_name)
+        .transpose()
+        .py_err()?;
     job.scene.sun = sun.as_deref().map(Sun::from_name).transpose().py_err()?;
     job.l_low = l_low;
     job.l_high = l_high.map(high_orders_from_number);

@@ -45,7 +45,24 @@ def test_render_signature_shows_the_defaults_it_uses(tmp_path):
     assert s["image"] == [defaults["width"], defaults["height"]]
     assert stokes.shape == (defaults["height"], defaults["width"], 3, 4)
     assert s["polarizers_deg"] == defaults["polarizers"]
-    assert s["window"] == defaults["window"]
+    # None: the scene's window; the built-in scene has none.
+    assert defaults["window"] is None and s["window"] == "none"
     assert s["valid_range_projection"] == defaults["valid_range"]
     assert s["shadows"] == defaults["shadows"]
     assert report["plan"]["tolerance"] == defaults["tolerance"]
+
+
+def test_render_takes_the_scene_files_window(tmp_path):
+    """A scene file's `[settings] window` is the render's unless `window=` says another."""
+    scene = tmp_path / "scene.toml"
+    scene.write_text(
+        '[environment]\ntype = "sky"\nsun_elevation_deg = 30.0\nsun_azimuth_deg = 20.0\n\n'
+        '[camera]\nposition = [0.0, -4.0, 1.0]\ntarget = [0.0, 0.0, 0.0]\nfov_deg = 40.0\n'
+        'width = 12\nheight = 8\n\n[settings]\nl_low = 2\nl_high = 0\nrays = 8\n'
+        'window = "hann"\n\n[[material]]\nname = "m"\ntype = "plastic"\nalpha = 0.3\n'
+        'ior = 1.5\nalbedo = 0.5\n\n[[mesh]]\ntype = "sphere"\ncenter = [0.0, 0.0, 0.0]\n'
+        'radius = 0.5\nrings = 6\nsegments = 12\nmaterial = "m"\n')
+    _, report = psh.render(scene, out=tmp_path / "a")
+    assert report["settings"]["window"] == "hann"
+    _, report = psh.render(scene, out=tmp_path / "b", window="lanczos")
+    assert report["settings"]["window"] == "lanczos"

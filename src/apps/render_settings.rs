@@ -55,18 +55,19 @@ pub struct SceneSetup {
     pub size: ImageSize,
     /// How the analytic sky carries its sun; `None`: the scene's.
     pub sun: Option<Sun>,
-    /// The window tapering the environment's band limit.
-    pub window: Window,
+    /// The window tapering the environment's band limit; `None`: the scene file's
+    /// `window` (none for the built-in scene).
+    pub window: Option<Window>,
 }
 
 impl Default for SceneSetup {
-    /// The built-in scene at [`ImageSize::RENDER`], its own sun, no window.
+    /// The built-in scene at [`ImageSize::RENDER`], its own sun and window.
     fn default() -> Self {
         Self {
             file: None,
             size: ImageSize::RENDER,
             sun: None,
-            window: Window::None,
+            window: None,
         }
     }
 }
@@ -90,7 +91,12 @@ impl SceneSetup {
             Some(sun) => scene.with_sun(sun)?,
             None => scene,
         };
-        Ok((scene.windowed(self.window), name))
+        let window = match (self.window, &self.file) {
+            (Some(window), _) => window,
+            (None, Some(path)) => crate::io::scene_window(path)?,
+            (None, None) => Window::None,
+        };
+        Ok((scene.windowed(window), name))
     }
 
     /// The transfer settings of the scene: the file's `[settings]`, or the defaults.

@@ -3,7 +3,10 @@
 //! ground truth of psh's reference renderer (into `fig19/`), and, given a Python with
 //! Mitsuba 3 (`--mitsuba`), as the paper did, against Mitsuba 3's render of
 //! `scenes/mitsuba_sky.toml` (unpolarized sky, two plastic spheres on a diffuse floor,
-//! rolled camera; into `fig19_mitsuba/`).
+//! rolled camera; into `fig19_mitsuba/`) and, the paper's case, of
+//! `scenes/mitsuba_polarized_sky.toml` (the polarized sky through a conductor, a
+//! dielectric and a plastic sphere, Mitsuba emitting it through psh's plugin; into
+//! `fig19_mitsuba_polarized/`).
 
 use super::{Comparison, FigureOptions, Outcome, Table};
 use crate::apps::bench_error::{bench_error, BenchErrorOptions, BenchErrorReport};
@@ -20,15 +23,22 @@ const L_MAX: [usize; 2] = [9, 5];
 const RAYS: [usize; 2] = [256, 64];
 const SPP: [&[usize]; 2] = [&[1, 4, 16, 64, 256], &[1, 4, 16]];
 const TRUTH_SPP: [usize; 2] = [2048, 256];
-/// The scene both renderers express identically, and Mitsuba's samples per pixel.
-const MITSUBA_SCENE: &str = include_str!("../../scenes/mitsuba_sky.toml");
+/// The scenes both renderers express identically: name (the output directory's suffix)
+/// and file; and Mitsuba's samples per pixel.
+const MITSUBA_SCENES: [(&str, &str); 2] = [
+    ("", include_str!("../../scenes/mitsuba_sky.toml")),
+    (
+        "_polarized",
+        include_str!("../../scenes/mitsuba_polarized_sky.toml"),
+    ),
+];
 const MITSUBA_SPP: [usize; 2] = [1024, 256];
 
 pub fn run(out: &Path, options: &FigureOptions) -> Result<Outcome> {
     let q = usize::from(options.quick);
     let scene = builtin_scene(L_MAX[q], SIZE[q].0, SIZE[q].1)?;
     let dir = out.join("fig19");
-    let bench = |scene, rays, truth, dir: &Path| {
+    let bench = |scene: &crate::pprt::Scene, rays, truth, dir: &Path| {
         bench_error(
             scene,
             &BenchErrorOptions {
@@ -61,26 +71,25 @@ pub fn run(out: &Path, options: &FigureOptions) -> Result<Outcome> {
         dir.join(format!("bench-error.{ext}")),
     ];
     let (mut measured, mut holds) = rows(&mut table, "psh reference, built-in scene", &report);
-    if let Some(python) = &options.mitsuba {
-        let dir = out.join("fig19_mitsuba");
+    for (suffix, text) in MITSUBA_SCENES.iter().filter(|_| options.mitsuba.is_some()) {
+        let python = options.mitsuba.as_deref().expect("filtered");
+        let dir = out.join(format!("fig19_mitsuba{suffix}"));
         let path = dir.join("scene.toml");
         std::fs::create_dir_all(&dir).map_err(|e| crate::Error::Io {
             path: dir.clone(),
             source: e,
         })?;
-        write_text(&path, MITSUBA_SCENE)?;
+        write_text(&path, text)?;
         let (scene, settings) = load_scene(&path, L_MAX[q])?;
         let (truth, seconds) = super::mitsuba::render(python, &scene, MITSUBA_SPP[q], &dir)?;
         let report = bench(&scene, settings.rays, Some(truth), &dir.join("bench"))?;
+        let name = format!("mitsuba{suffix}_sky");
         let (m, h) = rows(
             &mut table,
-            &format!(
-                "Mitsuba 3, {} spp ({seconds:.1} s), mitsuba_sky",
-                MITSUBA_SPP[q]
-            ),
+            &format!("Mitsuba 3, {} spp ({seconds:.1} s), {name}", MITSUBA_SPP[q]),
             &report,
         );
-        measured += &format!("; against Mitsuba 3: {m}");
+        measured += &format!("; against Mitsuba 3 on {name}: {m}");
         holds &= h;
         pictures.push(dir.join("bench").join(format!("fig19.{ext}")));
     }

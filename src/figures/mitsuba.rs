@@ -22,11 +22,28 @@ pub const MITSUBA_TIMEOUT: Duration = Duration::from_secs(1800);
 const STDERR_KEPT: u64 = 64 << 10;
 
 /// Renders `scene.xml` (argument 1) into the multichannel EXR argument 2 (layers S0..S3),
-/// seed 1, two threads.
-const RENDER: &str = "import sys, drjit as dr, mitsuba as mi
-mi.set_variant('scalar_spectral_polarized')
+/// seed 1, two threads. A polarized environment (the export wrote psh's plugin
+/// `psh_stokes_envmap.py` beside the scene) renders in `llvm_ad_spectral_polarized`, where
+/// the Python plugin is called once per wavefront (Dr.Jit's LLVM backend: libllvm19), and
+/// in `scalar_spectral_polarized` where that variant is missing (slower: once per ray).
+const RENDER: &str = "import sys, pathlib, importlib.util, drjit as dr, mitsuba as mi
+xml = pathlib.Path(sys.argv[1])
+plugin_file = xml.parent / 'psh_stokes_envmap.py'
+plugin = None
+if plugin_file.exists():
+    mi.set_variant(*[v for v in ['llvm_ad_spectral_polarized', 'scalar_spectral_polarized']
+                     if v in mi.variants()][:1])
+    spec = importlib.util.spec_from_file_location('psh_stokes_envmap', plugin_file)
+    plugin = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(plugin)
+    plugin.register()
+else:
+    mi.set_variant('scalar_spectral_polarized')
 dr.set_thread_count(2)
-scene = mi.load_file(sys.argv[1])
+scene = mi.load_file(str(xml))
+for emitter in scene.emitters() if plugin else []:
+    if isinstance(emitter, plugin.emitter_class()):
+        emitter.set_scene(scene)
 mi.render(scene, seed=1)
 scene.sensors()[0].film().bitmap().write(sys.argv[2])
 ";

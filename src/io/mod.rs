@@ -63,7 +63,9 @@ pub use png::{
     write_stokes_pngs, PictureNotes, UNPHYSICAL,
 };
 #[cfg(feature = "render")]
-pub use scene_file::{data_dir, load_scene, read_scene_spec, scene_inputs, scene_settings};
+pub use scene_file::{
+    data_dir, load_scene, read_scene_spec, scene_inputs, scene_settings, scene_window,
+};
 pub use tensor_file::{read_tensor_file, write_tensor_file, TensorField, TensorType};
 pub use texels::check_stokes_output;
 

@@ -28,6 +28,8 @@
 //! l_high = 9                   # high orders by convolution (none if <= l_low)
 //! rays = 256
 //! shadows = true
+//! window = "none"              # the environment's band-limit window in a render job:
+//!                              # none, hann or lanczos (psh::sh::Window)
 //! unpolarized_environment = false   # true: the environment's s0 alone (s1..s3 dropped)
 //!
 //! [[material]]
@@ -138,6 +140,16 @@ impl SceneFiles for SceneDirectory<'_> {
 /// work.
 pub fn scene_settings(path: impl AsRef<Path>) -> Result<TransferSettings> {
     Ok(read_scene_spec(path)?.settings.transfer())
+}
+
+/// The window of the scene file `path` (its `[settings]` `window`), read as
+/// [`scene_settings`] reads the settings. Error: an unknown name, naming the file.
+pub fn scene_window(path: impl AsRef<Path>) -> Result<crate::sh::Window> {
+    let path = path.as_ref();
+    read_scene_spec(path)?
+        .settings
+        .window()
+        .map_err(|e| Error::malformed(path.to_path_buf(), format!("settings.window: {e}")))
 }
 
 /// The files a render of the scene file `path` reads: the file itself and those it names

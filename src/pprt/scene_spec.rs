@@ -17,6 +17,7 @@ use crate::optics::{
     Channel, ComplexIor, Conductor, Lambertian, Masking, Material, PolarizedPlastic, TabulatedPbrdf,
 };
 use crate::polarized::{Codomain, FieldArgument, IsotropicMatrix, PshVector};
+use crate::sh::Window;
 use nalgebra::{Rotation3, Vector3};
 use serde::Deserialize;
 use std::path::Path;
@@ -186,6 +187,9 @@ pub struct SettingsSpec {
     pub shadows: bool,
     /// The environment's `s0` alone (`s1..s3` dropped), for the reference too.
     pub unpolarized_environment: bool,
+    /// The window tapering the environment's band limit in a render job (`none`, `hann`,
+    /// `lanczos`: [`Window`]; a job's own window replaces it).
+    pub window: String,
 }
 
 impl Default for SettingsSpec {
@@ -197,11 +201,17 @@ impl Default for SettingsSpec {
             rays: d.rays,
             shadows: d.shadows(),
             unpolarized_environment: false,
+            window: Window::None.name().into(),
         }
     }
 }
 
 impl SettingsSpec {
+    /// The window named by `window`. Error: another name.
+    pub fn window(&self) -> Result<Window> {
+        Window::from_name(&self.window)
+    }
+
     /// The transfer settings these say.
     pub fn transfer(&self) -> TransferSettings {
         TransferSettings {
@@ -396,6 +406,9 @@ impl SceneSpec {
         let malformed = |reason: String| Error::malformed(files.origin().to_path_buf(), reason);
         let field = |name: &str, e: Error| malformed(format!("{name}: {e}"));
         let settings = self.settings.transfer();
+        self.settings
+            .window()
+            .map_err(|e| field("settings.window", e))?;
         let lmax = lmax.max(settings.environment_lmax());
         let source = self.source(lmax, files, &field)?;
         let environment = match &source {

@@ -345,7 +345,7 @@ def render(
     tolerance: Optional[float] = 1e-3,
     polarizers: Sequence[float] = [0.0, 45.0, 90.0, 135.0],
     valid_range: bool = True,
-    window: str = "none",
+    window: Optional[str] = None,
     sun: Optional[str] = None,
 ) -> Tuple[_FloatArray, dict]:
     """PPRT (PSH Sec. 7): ``(stokes (height, width, 3, 4), report)``, channels R, G, B,

@@ -28,9 +28,10 @@ pub struct SceneArgs {
     #[arg(long, value_parser = named::<psh::pprt::Sun>())]
     sun: Option<psh::pprt::Sun>,
     /// Taper the environment's band limit by a window (proofs/windowed-band-limits.md)
-    /// before the transfer: less ringing, more blur.
-    #[arg(long, default_value_t, value_parser = named::<psh::sh::Window>())]
-    window: psh::sh::Window,
+    /// before the transfer: less ringing, more blur. Default: the scene file's `window`
+    /// (none for the built-in scene).
+    #[arg(long, value_parser = named::<psh::sh::Window>())]
+    window: Option<psh::sh::Window>,
 }
 
 impl SceneArgs {

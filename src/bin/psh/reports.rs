@@ -37,7 +37,8 @@ pub struct FiguresArgs {
     #[arg(long)]
     quick: bool,
     /// A Python interpreter with the `mitsuba` package (Mitsuba 3): PSH Fig. 19 also
-    /// against Mitsuba 3's render of scenes/mitsuba_sky.toml.
+    /// against Mitsuba 3's renders of scenes/mitsuba_sky.toml and, under the polarized
+    /// sky through psh's plugin, scenes/mitsuba_polarized_sky.toml.
     #[arg(long)]
     mitsuba: Option<PathBuf>,
 }
