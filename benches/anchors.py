@@ -1,5 +1,5 @@
 """The anchors of docs/performance.md, timed on one thread: the same operations as the
-criterion ids of benches/sh.rs, by the public packages psh is measured against.
+criterion ids of benches/sh.rs and benches/swsh.rs, by the public packages psh is measured against.
 
     OMP_NUM_THREADS=1 validation/.venv/bin/python benches/anchors.py
 
@@ -57,31 +57,44 @@ def sh_real():
                median_time(lambda: sh.compute(dirs)))
 
 
-def sht_scalar():
-    """`sht_scalar/{analysis,synthesis}_gl/L`: real-field transforms on the Gauss-Legendre
-    grid of L + 1 rings by 2L + 2 meridians, `ducc0.sht.analysis_2d` / `synthesis_2d`,
-    nthreads = 1."""
+def gauss_legendre(group, spin, sizes):
+    """`{group}/{analysis,synthesis}_gl/L`: transforms of spin `spin` on the
+    Gauss-Legendre grid of L + 1 rings by 2L + 2 meridians, `ducc0.sht.analysis_2d` /
+    `synthesis_2d`, nthreads = 1 (spin 2: the E and B coefficients of m >= 0, the same
+    information as psh's complex spin-2 coefficients of every m)."""
     import ducc0
 
-    for lmax in (128, 512):
+    for lmax in sizes:
         nt, nphi = lmax + 1, 2 * lmax + 2
         nalm = (lmax + 1) * (lmax + 2) // 2
+        ncomp = 1 if spin == 0 else 2
         rng = np.random.default_rng(2)
-        alm = (rng.normal(size=nalm) + 1j * rng.normal(size=nalm)).reshape(1, -1)
-        alm[0, : lmax + 1] = alm[0, : lmax + 1].real  # m = 0 is real for a real field
-        kw = dict(spin=0, lmax=lmax, geometry="GL", nthreads=1)
+        alm = (rng.normal(size=(ncomp, nalm)) + 1j * rng.normal(size=(ncomp, nalm)))
+        alm[:, : lmax + 1] = alm[:, : lmax + 1].real  # m = 0 is real for a real field
+        alm[:, :spin] = 0  # l < spin
+        kw = dict(spin=spin, lmax=lmax, geometry="GL", nthreads=1)
         maps = ducc0.sht.synthesis_2d(alm=alm, ntheta=nt, nphi=nphi, **kw)
-        yield (f"sht_scalar/analysis_gl/{lmax}", "ducc0 analysis_2d, 1 thread",
+        yield (f"{group}/analysis_gl/{lmax}", "ducc0 analysis_2d, 1 thread",
                median_time(lambda: ducc0.sht.analysis_2d(map=maps, **kw)))
-        yield (f"sht_scalar/synthesis_gl/{lmax}", "ducc0 synthesis_2d, 1 thread",
+        yield (f"{group}/synthesis_gl/{lmax}", "ducc0 synthesis_2d, 1 thread",
                median_time(lambda: ducc0.sht.synthesis_2d(alm=alm, ntheta=nt, nphi=nphi,
                                                           **kw)))
+
+
+def sht_scalar():
+    """`sht_scalar/...`: real fields, L = 128, 512, 2048."""
+    yield from gauss_legendre("sht_scalar", 0, (128, 512, 2048))
+
+
+def sht_spin2():
+    """`sht_spin2_1thread/...` (benches/swsh.rs): spin 2, L = 128, 512."""
+    yield from gauss_legendre("sht_spin2_1thread", 2, (128, 512))
 
 
 def main():
     print(f"# {platform.processor() or platform.machine()}, "
           f"OMP_NUM_THREADS={os.environ.get('OMP_NUM_THREADS', 'unset')}")
-    for bench in (wigner_d, sh_real, sht_scalar):
+    for bench in (wigner_d, sh_real, sht_scalar, sht_spin2):
         for id_, anchor, t in bench():
             print(f"{id_:34} {anchor:40} {fmt(t)}", flush=True)
 

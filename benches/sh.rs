@@ -44,7 +44,7 @@ fn sh_real(c: &mut Criterion) {
 fn sht_scalar(c: &mut Criterion) {
     let mut g = c.benchmark_group("sht_scalar");
     g.sample_size(20);
-    for lmax in [128usize, 512] {
+    for lmax in [128usize, 512, 2048] {
         let t = ShTransform::new(lmax).unwrap();
         let coeffs = pseudo_random(num_coeffs(lmax), 2);
         let mut field = vec![0.0; t.grid().len()];

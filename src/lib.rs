@@ -96,6 +96,7 @@ pub mod geometry;
 #[cfg(feature = "io")]
 pub mod io;
 pub mod isd;
+pub(crate) mod lanes;
 pub mod lights;
 pub mod map;
 pub mod names;

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 /// The layers, bottom to top; modules on one line are siblings and import neither each
 /// other nor anything above.
 const LAYERS: &[&[&str]] = &[
-    &["error", "random"],
+    &["error", "random", "lanes"],
     &["budget", "names", "progress"],
     &["geometry"],
     &["sh"],

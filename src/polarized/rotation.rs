@@ -22,11 +22,12 @@
 use super::PshVector;
 use crate::error::{Error, Result};
 use crate::geometry::euler_zyz;
+use crate::lanes::F64x4;
 use crate::sh::evaluation::harmonics::cis_m;
 use crate::sh::rotation::small_d::{check_block_memory, for_each_small_d, SmallDHalf};
+use multiversion::multiversion;
 use nalgebra::Rotation3;
 use std::f64::consts::SQRT_2;
-use wide::f64x4;
 
 /// The PSH coefficient matrix of one rotation, up to a band limit: the phases of its
 /// Euler angles and the halves of its small-d blocks.
@@ -216,7 +217,7 @@ fn apply_degree(
     }
     z.clear();
     z.resize((l + 1) * cp, 0.0);
-    products(half, x, cp, z);
+    crate::lanes::dispatch!(products_simd | products(half, x, cp, z));
     let dst = out.data_mut();
     let (mut j, mut gains) = (0, gains.iter().map(|g| 1.0 / g));
     for c in 0..v.channels() {
@@ -252,6 +253,7 @@ fn apply_degree(
 /// `z[m cp + j] = sum_b row_m[b] x[b cp + j]` for the rows `m = 0..=l` of `half` and the
 /// `cp` columns of `x` (a multiple of 4): column blocks of up to six SIMD vectors, rows
 /// in pairs, each row entry read once per block.
+#[inline(always)]
 fn products(half: SmallDHalf<'_>, x: &[f64], cp: usize, z: &mut [f64]) {
     let mut j = 0;
     while j < cp {
@@ -268,8 +270,14 @@ fn products(half: SmallDHalf<'_>, x: &[f64], cp: usize, z: &mut [f64]) {
     }
 }
 
-/// The columns `j..j + 4V` of [`products`].
-#[inline(never)]
+/// [`products`] compiled per instruction set ([`crate::lanes`]).
+#[multiversion(targets = "simd")]
+fn products_simd(half: SmallDHalf<'_>, x: &[f64], cp: usize, z: &mut [f64]) {
+    products(half, x, cp, z)
+}
+
+/// The columns `j..j + 4V` of [`products`] (inlined into its instruction set).
+#[inline(always)]
 fn product_block<const V: usize>(
     half: SmallDHalf<'_>,
     x: &[f64],
@@ -281,12 +289,12 @@ fn product_block<const V: usize>(
     let n = 2 * l + 1;
     for m in (0..=l).step_by(2) {
         let (r0, r1) = (half.row(m), half.row((m + 1).min(l)));
-        let mut acc = [[f64x4::ZERO; V]; 2];
+        let mut acc = [[F64x4::ZERO; V]; 2];
         for ((&d0, &d1), xb) in r0.iter().zip(r1).zip(x.chunks_exact(cp)).take(n) {
-            let (d0, d1) = (f64x4::splat(d0), f64x4::splat(d1));
+            let (d0, d1) = (F64x4::splat(d0), F64x4::splat(d1));
             let xb = &xb[j..j + 4 * V];
             for v in 0..V {
-                let xv = f64x4::new([xb[4 * v], xb[4 * v + 1], xb[4 * v + 2], xb[4 * v + 3]]);
+                let xv = F64x4::new([xb[4 * v], xb[4 * v + 1], xb[4 * v + 2], xb[4 * v + 3]]);
                 acc[0][v] = d0.mul_add(xv, acc[0][v]);
                 acc[1][v] = d1.mul_add(xv, acc[1][v]);
             }

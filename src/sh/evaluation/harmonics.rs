@@ -11,6 +11,7 @@ use crate::geometry::{check_direction, check_theta, direction_angles, UNIT_TOLER
 use crate::sh::evaluation::cartesian;
 use crate::sh::index::{lm_index, num_coeffs};
 use crate::sh::recursion::legendre::{for_each_column_accurate, Legendre, Polar};
+use multiversion::multiversion;
 use num_complex::Complex64;
 use rayon::prelude::*;
 use std::f64::consts::SQRT_2;
@@ -229,52 +230,12 @@ impl ShEvaluator {
         };
         // Blocks of directions in parallel: each row is computed by one task, the same bits
         // on any thread count.
-        let cartesian = |(chunk, rows): (&[[f64; 3]], &mut [f64])| -> Result<()> {
-            let mut tile = vec![f64x4::ZERO; n];
-            for (chunk, rows) in chunk.chunks(cartesian::LANES).zip(rows.chunks_mut(4 * n)) {
-                for &w in chunk {
-                    check_unit(w)?;
-                }
-                let last = chunk[chunk.len() - 1];
-                let lanes = std::array::from_fn(|j| *chunk.get(j).unwrap_or(&last));
-                cartesian::real_lanes(table, &lanes, &mut tile);
-                for (j, row) in rows.chunks_exact_mut(n).enumerate() {
-                    for (o, t) in row.iter_mut().zip(&tile) {
-                        *o = t.to_array()[j];
-                    }
-                }
-            }
-            Ok(())
-        };
         let block = |(chunk, rows): (&[[f64; 3]], &mut [f64])| -> Result<()> {
             if self.lmax <= cartesian::CARTESIAN_LMAX {
-                return cartesian((chunk, rows));
+                cartesian_block(table, n, chunk, rows)
+            } else {
+                crate::lanes::dispatch!(polar_simd | polar_block(table, n, chunk, rows))
             }
-            let mut tile = vec![[0.0; LANES]; n];
-            let mut scratch = Vec::new();
-            for (chunk, rows) in chunk.chunks(LANES).zip(rows.chunks_mut(LANES * n)) {
-                let mut polars = [Polar::from_z_rho(1.0, 0.0); LANES];
-                let mut cis = [(1.0, 0.0); LANES];
-                for (j, &w) in chunk.iter().enumerate() {
-                    check_unit(w)?;
-                    // Normalized: a direction within the unit tolerance is taken as its
-                    // unit vector, as by `real` (through its angles).
-                    let inv = 1.0 / (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
-                    let rho = (w[0] * w[0] + w[1] * w[1]).sqrt();
-                    polars[j] = Polar::from_z_rho(w[2] * inv, rho * inv);
-                    if rho > 0.0 {
-                        let inv = 1.0 / rho;
-                        cis[j] = (w[0] * inv, w[1] * inv);
-                    }
-                }
-                real_lanes(table, &polars, &cis, &mut scratch, &mut tile);
-                for (j, row) in rows.chunks_exact_mut(n).enumerate() {
-                    for (o, t) in row.iter_mut().zip(&tile) {
-                        *o = t[j];
-                    }
-                }
-            }
-            Ok(())
         };
         if dirs.len() <= BATCH_BLOCK {
             return block((dirs, out));
@@ -286,6 +247,65 @@ impl ShEvaluator {
         let results: Vec<Result<()>> = blocks.map(block).collect();
         results.into_iter().collect()
     }
+}
+
+/// Real SH of degrees `<= table.lmax() <= CARTESIAN_LMAX` at the directions `chunk`
+/// into `rows` (one row of `n = (lmax+1)^2` per direction), four at a time by the Cartesian
+/// kernel (`wide`'s four lanes, fixed when psh is compiled: written with lane arrays and
+/// compiled per instruction set it ran no faster, see `docs/performance.md`).
+fn cartesian_block(table: &Legendre, n: usize, chunk: &[[f64; 3]], rows: &mut [f64]) -> Result<()> {
+    let mut tile = vec![f64x4::ZERO; n];
+    for (chunk, rows) in chunk.chunks(cartesian::LANES).zip(rows.chunks_mut(4 * n)) {
+        for &w in chunk {
+            check_unit(w)?;
+        }
+        let last = chunk[chunk.len() - 1];
+        let lanes = std::array::from_fn(|j| *chunk.get(j).unwrap_or(&last));
+        cartesian::real_lanes(table, &lanes, &mut tile);
+        for (j, row) in rows.chunks_exact_mut(n).enumerate() {
+            for (o, t) in row.iter_mut().zip(&tile) {
+                *o = t.to_array()[j];
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Real SH at the directions `chunk` into `rows` as [`cartesian_block`], by the
+/// recursions in `u` of [`Legendre::for_each_column_lanes`] (any band limit).
+#[inline(always)]
+fn polar_block(table: &Legendre, n: usize, chunk: &[[f64; 3]], rows: &mut [f64]) -> Result<()> {
+    let mut tile = vec![[0.0; LANES]; n];
+    let mut scratch = Vec::new();
+    for (chunk, rows) in chunk.chunks(LANES).zip(rows.chunks_mut(LANES * n)) {
+        let mut polars = [Polar::from_z_rho(1.0, 0.0); LANES];
+        let mut cis = [(1.0, 0.0); LANES];
+        for (j, &w) in chunk.iter().enumerate() {
+            check_unit(w)?;
+            // Normalized: a direction within the unit tolerance is taken as its unit
+            // vector, as by `real` (through its angles).
+            let inv = 1.0 / (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+            let rho = (w[0] * w[0] + w[1] * w[1]).sqrt();
+            polars[j] = Polar::from_z_rho(w[2] * inv, rho * inv);
+            if rho > 0.0 {
+                let inv = 1.0 / rho;
+                cis[j] = (w[0] * inv, w[1] * inv);
+            }
+        }
+        real_lanes(table, &polars, &cis, &mut scratch, &mut tile);
+        for (j, row) in rows.chunks_exact_mut(n).enumerate() {
+            for (o, t) in row.iter_mut().zip(&tile) {
+                *o = t[j];
+            }
+        }
+    }
+    Ok(())
+}
+
+/// [`polar_block`] compiled per instruction set ([`crate::lanes`]).
+#[multiversion(targets = "simd")]
+fn polar_simd(table: &Legendre, n: usize, chunk: &[[f64; 3]], rows: &mut [f64]) -> Result<()> {
+    polar_block(table, n, chunk, rows)
 }
 
 /// Checks a direction of a batch: a cheap test of its squared norm, the full check (and
@@ -304,6 +324,7 @@ const BATCH_BLOCK: usize = 32 * LANES;
 
 /// Real SH of `LANES` directions (given as polar angles and `e^{i phi}`) into the tile
 /// `tile[l*l + l + m][lane]`.
+#[inline(always)]
 fn real_lanes(
     table: &Legendre,
     polars: &[Polar; LANES],
@@ -511,6 +532,15 @@ pub(crate) mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// An empty batch is an empty result for both kernels (no block of zero rows).
+    #[test]
+    fn empty_batches_are_empty() {
+        for lmax in [4, 40] {
+            let sh = ShEvaluator::new(lmax).unwrap();
+            assert!(sh.real_batch(&[], &mut []).is_ok());
         }
     }
 

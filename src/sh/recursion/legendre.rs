@@ -393,6 +393,9 @@ impl Legendre {
     /// per block of `LANE_BLOCK` steps instead of at every step: within a block a value
     /// grows by at most `a_lm^16 < 2^200`, far inside the `2^423` head room above `BIG`.
     /// `scratch` holds the column (resized to `lmax + 1` rows; reuse it across calls).
+    /// Inlined, so that it runs in the instruction set of a caller compiled per
+    /// instruction set (the batch SH's polar kernel).
+    #[inline(always)]
     pub fn for_each_column_lanes<const N: usize>(
         &self,
         polars: &[Polar; N],

@@ -21,6 +21,7 @@
 
 use crate::error::{check_len, finite, Result};
 use crate::sh::index::check_lmax;
+use multiversion::multiversion;
 
 /// Risbo's recursion for `d^l(beta)`, `l = 0, 1, ...`, one block at a time in `O(l^2)`
 /// memory; use it to stream blocks at degrees where storing them all is too much.
@@ -85,15 +86,16 @@ impl SmallDRecursion {
             if self.level + 2 > 2 * self.steps.lmax {
                 return None;
             }
-            self.steps
-                .degree_step(&self.cur, &mut self.ring, &mut self.next, self.level);
+            let (steps, cur) = (&mut self.steps, &self.cur);
+            let (ring, next, level) = (&mut self.ring, &mut self.next, self.level);
+            crate::lanes::dispatch!(degree_step_simd | degree_step(steps, cur, ring, next, level));
             self.finish_step();
         }
         self.started = true;
         Some(self.level / 2)
     }
 
-    /// Makes the level computed by [`HalfSteps::degree_step`] into `next` the current one.
+    /// Makes the level computed by [`degree_step`] into `next` the current one.
     fn finish_step(&mut self) {
         std::mem::swap(&mut self.cur, &mut self.next);
         self.level += 2;
@@ -162,70 +164,81 @@ impl Level<'_> {
     }
 }
 
-impl HalfSteps {
-    /// Two half-integer steps: level `J = 2l` in `cur` to `J + 2` in `next`, through
-    /// level `J + 1` kept a few rows at a time in `ring` (rows [`Rows::Ring`]): each row
-    /// of `J + 1` is computed just before the rows of `J + 2` that read it, while it is
-    /// in the cache.
-    fn degree_step<'a>(
-        &'a mut self,
-        cur: &[f64],
-        ring: &mut [f64],
-        next: &mut [f64],
-        level: usize,
-    ) {
-        let s = self.stride;
-        let (j1, j2) = (level + 1, level + 2);
-        let (sq, p, q) = (&self.sq, self.p, self.q);
-        let [rev1, fwd1, rev2, fwd2] = &mut self.e;
-        for (rev, fwd, big_j) in [(&mut *rev1, &mut *fwd1, j1), (&mut *rev2, &mut *fwd2, j2)] {
-            for b in 0..=big_j {
-                rev[b] = sq[big_j - b];
-                fwd[b] = sq[b];
-            }
-        }
-        let step = |big_j: usize, rev: &'a [f64], fwd: &'a [f64]| StepConsts {
-            big_j,
-            rev: &rev[..=big_j],
-            fwd: &fwd[..=big_j],
-            inv: 1.0 / big_j as f64,
-            p,
-            q,
-            sq,
-        };
-        let (first, second) = (step(j1, rev1, fwd1), step(j2, rev2, fwd2));
-        // Rows a <= h of each level, plus row h + 1 by symmetry (what the next level reads).
-        let (h1, h2) = ((j1 / 2 + 1).min(j1), (j2 / 2 + 1).min(j2));
-        // Rows 0..done of level J + 1 are in the ring.
-        let mut done = 0;
-        let mut a = 0;
-        while a <= h2 {
-            let two = a < h2;
-            // Rows a (and a + 1) of level J + 2 read rows a - 1..=a (a + 1) of level J + 1.
-            while done <= a + usize::from(two) {
-                if done < h1 {
-                    first.rows(cur, Rows::Full, ring, Rows::Ring, s, done, true);
-                    done += 2;
-                } else if done == h1 {
-                    first.rows(cur, Rows::Full, ring, Rows::Ring, s, done, false);
-                    done += 1;
-                } else if done <= j1 {
-                    first.mirror_row(ring, Rows::Ring, s, done);
-                    done += 1;
-                } else {
-                    // Past the block (only at J + 1 = 1): a row of zeros.
-                    let o = Rows::Ring.slot(done + 1) * s;
-                    ring[o..o + s].fill(0.0);
-                    done += 1;
-                }
-            }
-            second.rows(ring, Rows::Ring, next, Rows::Full, s, a, two);
-            a += 2;
-        }
-        if h2 < j2 {
-            second.mirror_row(next, Rows::Full, s, h2 + 1);
+/// Two half-integer steps: level `J = 2l` in `cur` to `J + 2` in `next`, through level
+/// `J + 1` kept a few rows at a time in `ring` (rows [`Rows::Ring`]): each row of `J + 1`
+/// is computed just before the rows of `J + 2` that read it, while it is in the cache.
+#[inline(always)]
+fn degree_step<'a>(
+    steps: &'a mut HalfSteps,
+    cur: &[f64],
+    ring: &mut [f64],
+    next: &mut [f64],
+    level: usize,
+) {
+    let s = steps.stride;
+    let (j1, j2) = (level + 1, level + 2);
+    let (sq, p, q) = (&steps.sq, steps.p, steps.q);
+    let [rev1, fwd1, rev2, fwd2] = &mut steps.e;
+    for (rev, fwd, big_j) in [(&mut *rev1, &mut *fwd1, j1), (&mut *rev2, &mut *fwd2, j2)] {
+        for b in 0..=big_j {
+            rev[b] = sq[big_j - b];
+            fwd[b] = sq[b];
         }
     }
+    let step = |big_j: usize, rev: &'a [f64], fwd: &'a [f64]| StepConsts {
+        big_j,
+        rev: &rev[..=big_j],
+        fwd: &fwd[..=big_j],
+        inv: 1.0 / big_j as f64,
+        p,
+        q,
+        sq,
+    };
+    let (first, second) = (step(j1, rev1, fwd1), step(j2, rev2, fwd2));
+    // Rows a <= h of each level, plus row h + 1 by symmetry (what the next level reads).
+    let (h1, h2) = ((j1 / 2 + 1).min(j1), (j2 / 2 + 1).min(j2));
+    // Rows 0..done of level J + 1 are in the ring.
+    let mut done = 0;
+    let mut a = 0;
+    while a <= h2 {
+        let two = a < h2;
+        // Rows a (and a + 1) of level J + 2 read rows a - 1..=a (a + 1) of level J + 1.
+        while done <= a + usize::from(two) {
+            if done < h1 {
+                first.rows(cur, Rows::Full, ring, Rows::Ring, s, done, true);
+                done += 2;
+            } else if done == h1 {
+                first.rows(cur, Rows::Full, ring, Rows::Ring, s, done, false);
+                done += 1;
+            } else if done <= j1 {
+                first.mirror_row(ring, Rows::Ring, s, done);
+                done += 1;
+            } else {
+                // Past the block (only at J + 1 = 1): a row of zeros.
+                let o = Rows::Ring.slot(done + 1) * s;
+                ring[o..o + s].fill(0.0);
+                done += 1;
+            }
+        }
+        second.rows(ring, Rows::Ring, next, Rows::Full, s, a, two);
+        a += 2;
+    }
+    if h2 < j2 {
+        second.mirror_row(next, Rows::Full, s, h2 + 1);
+    }
+}
+
+/// [`degree_step`] compiled per instruction set ([`crate::lanes`]; the rows' loops
+/// vectorize).
+#[multiversion(targets = "simd")]
+fn degree_step_simd(
+    steps: &mut HalfSteps,
+    cur: &[f64],
+    ring: &mut [f64],
+    next: &mut [f64],
+    level: usize,
+) {
+    degree_step(steps, cur, ring, next, level)
 }
 
 /// Where the rows of a level are kept: row `a >= -1` of the recursion (buffer row
@@ -246,6 +259,7 @@ const RING: usize = 8;
 
 impl Rows {
     /// The place of buffer row `i` (recursion row `i - 1`).
+    #[inline(always)]
     fn slot(self, i: usize) -> usize {
         match self {
             Rows::Full => i,
@@ -269,6 +283,7 @@ struct StepConsts<'a> {
 
 impl StepConsts<'_> {
     /// Row constants of the recursion: `sqrt(J-a)/J {p, q}`, `sqrt(a)/J {q, p}`.
+    #[inline(always)]
     fn row(&self, a: usize) -> [f64; 4] {
         let (ca, cb) = (self.sq[self.big_j - a] * self.inv, self.sq[a] * self.inv);
         [ca * self.p, ca * self.q, cb * self.q, cb * self.p]
@@ -277,6 +292,7 @@ impl StepConsts<'_> {
     /// Row `a` of level `J` into `dst` from level `J - 1` in `src`, and with `two` row
     /// `a + 1` in the same pass, sharing the loads of their common source row (`a` even).
     #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
     fn rows(
         &self,
         src: &[f64],
@@ -318,6 +334,7 @@ impl StepConsts<'_> {
     }
 
     /// Row `a` of level `J` from row `J - a` by `d[a][b] = (-1)^{a+b} d[J-a][J-b]`.
+    #[inline(always)]
     fn mirror_row(&self, dst: &mut [f64], rows: Rows, s: usize, a: usize) {
         let big_j = self.big_j;
         let (from, to) = (rows.slot(big_j - a + 1) * s, rows.slot(a + 1) * s);
@@ -498,7 +515,9 @@ pub(crate) fn for_each_level(
             f(&current);
             return;
         }
-        let mut step = || steps.degree_step(cur, ring, next, *level);
+        let mut step = || {
+            crate::lanes::dispatch!(degree_step_simd | degree_step(steps, cur, ring, next, *level))
+        };
         if l >= PIPELINE_DEGREE {
             rayon::join(|| f(&current), step);
         } else {

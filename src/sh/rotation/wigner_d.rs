@@ -6,6 +6,7 @@ use super::small_d::{check_block_memory, for_each_level, Level};
 use crate::error::{check_len, finite, Error, Result};
 use crate::geometry::euler_zyz;
 use crate::sh::index::{lm_index, num_coeffs};
+use multiversion::multiversion;
 use nalgebra::Rotation3;
 use num_complex::Complex64;
 use std::f64::consts::SQRT_2;
@@ -28,7 +29,10 @@ pub fn for_each_block(
     for_each_level(beta, lmax, |current| {
         let l = current.level / 2;
         let band = lmax - l..=lmax + l;
-        complex_block(current, &ea[band.clone()], &eg[band], &mut gs, &mut block);
+        let (ea, eg) = (&ea[band.clone()], &eg[band]);
+        crate::lanes::dispatch!(
+            complex_block_simd | complex_block(current, ea, eg, &mut gs, &mut block)
+        );
         f(l, &block);
     })
 }
@@ -40,6 +44,7 @@ pub fn for_each_block(
 /// With `e^{-i m' gamma}` conjugate to its mirror `e^{i m' gamma}` and the sign folded
 /// into `gs[k] = (-1)^k eg[k]`, every row is `c P[k] v[k]` with a row `v` of the stored
 /// half read forward or reversed: each row of `D` is written once, front to back.
+#[inline(always)]
 fn complex_block(
     level: &Level<'_>,
     ea: &[Complex64],
@@ -80,6 +85,18 @@ fn complex_block(
     }
 }
 
+/// [`complex_block`] compiled per instruction set ([`crate::lanes`]).
+#[multiversion(targets = "simd")]
+fn complex_block_simd(
+    level: &Level<'_>,
+    ea: &[Complex64],
+    eg: &[Complex64],
+    gs: &mut Vec<Complex64>,
+    out: &mut Vec<Complex64>,
+) {
+    complex_block(level, ea, eg, gs, out)
+}
+
 /// `e^{-i m angle}` for `m = -l..=l`.
 fn phases(l: usize, angle: f64) -> Vec<Complex64> {
     (-(l as i64)..=l as i64)
@@ -91,6 +108,7 @@ fn phases(l: usize, angle: f64) -> Vec<Complex64> {
 }
 
 /// `out[k] = c p[k] v[k]`: a row of `D` from a row `v` of `d` and phases `p`.
+#[inline(always)]
 fn phase_row(out: &mut [Complex64], c: Complex64, p: &[Complex64], v: impl Iterator<Item = f64>) {
     for ((o, &p), v) in out.iter_mut().zip(p).zip(v) {
         *o = Complex64::new(
