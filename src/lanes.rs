@@ -158,17 +158,26 @@ mod tests {
             );
         }
 
-        let r = nalgebra::Rotation3::from_euler_angles(0.3, -1.1, 2.0);
-        let (a, b) = both(|| {
-            let mut all = Vec::new();
-            for_each_block(&r, 60, |_, block| all.extend_from_slice(block)).unwrap();
-            all
-        });
+        // A generic rotation, the identity, a tiny one and a half turn (beta = 0, ~0, pi).
         let bits = |z: &num_complex::Complex64| (z.re.to_bits(), z.im.to_bits());
-        assert!(
-            a.iter().zip(&b).all(|(x, y)| bits(x) == bits(y)),
-            "Wigner D blocks"
-        );
+        for (roll, pitch, yaw) in [
+            (0.3, -1.1, 2.0),
+            (0.0, 0.0, 0.0),
+            (1e-9, 0.0, 0.0),
+            (std::f64::consts::PI, 0.0, 0.5),
+        ] {
+            let r = nalgebra::Rotation3::from_euler_angles(roll, pitch, yaw);
+            let (a, b) = both(|| {
+                let mut all = Vec::new();
+                for_each_block(&r, 60, |_, block| all.extend_from_slice(block)).unwrap();
+                all
+            });
+            assert!(
+                a.iter().zip(&b).all(|(x, y)| bits(x) == bits(y)),
+                "Wigner D blocks at {roll}, {pitch}, {yaw}"
+            );
+        }
+        let r = nalgebra::Rotation3::from_euler_angles(0.3, -1.1, 2.0);
 
         let l = 12;
         let mut data = pseudo_random(2 * num_coeffs(l) * 4, 11);

@@ -326,9 +326,10 @@ SURVEY = [("none", 4, 9, True), ("hann", 4, 9, True), ("lanczos", 4, 9, False),
 
 
 def settings_survey(psh, record, key, m1, inner, lit, linear):
-    """Per setting of SURVEY, with and without the projection: RMSE of s0..s3, DoP and AoLP
-    errors against Mitsuba's render `m1` over the interior pixels, each object's share of
-    pixels breaking PSH (70) before the projection, and the frame time. Checks the
+    """Per setting of SURVEY (without the projection, and with it where SURVEY says): RMSE
+    of s0..s3, DoP and AoLP errors against Mitsuba's render `m1` over the interior
+    pixels, each object's share of pixels breaking PSH (70) before the projection, and the
+    frame time. Checks the
     projection's theorem on every pixel: onto the convex cone s0 >= |(s1, s2, s3)| it is
     the nearest point, so it never moves a pixel's Stokes vector farther from a valid one,
     and Mitsuba's pixels are means of valid vectors (proofs/stokes-valid-range.md)."""
