@@ -16,10 +16,10 @@
 //! northern mirror of each direction (full relative accuracy near the poles), with
 //! `Pbar_lm(pi - theta) = (-1)^{l+m} Pbar_lm(theta)` for the southern ones.
 
+use crate::lanes::{F64x4, LaneSet};
 use crate::sh::index::lm_index;
 use crate::sh::recursion::legendre::Legendre;
 use std::f64::consts::{PI, SQRT_2};
-use wide::{f64x4, CmpLt};
 
 /// The largest band limit the Cartesian kernel serves.
 pub(crate) const CARTESIAN_LMAX: usize = 24;
@@ -28,45 +28,53 @@ pub(crate) const CARTESIAN_LMAX: usize = 24;
 pub(crate) const LANES: usize = 4;
 
 /// Real SH of degrees `<= table.lmax()` at four directions (finite, near unit length;
-/// normalized here) into `tile[l*l + l + m]` (one lane per direction).
-#[inline]
-pub(crate) fn real_lanes(table: &Legendre, dirs: &[[f64; 3]; LANES], tile: &mut [f64x4]) {
+/// normalized here) into `tile[l*l + l + m]` (one lane per direction), in the lanes of
+/// `set`.
+#[inline(always)]
+pub(crate) fn real_lanes<L: LaneSet>(
+    set: L,
+    table: &Legendre,
+    dirs: &[[f64; 3]; LANES],
+    tile: &mut [F64x4],
+) {
     let lmax = table.lmax();
-    let [x, y, z] = std::array::from_fn(|i| f64x4::new(dirs.map(|w| w[i])));
-    let inv = f64x4::ONE / (x * x + y * y + z * z).sqrt();
+    let [x, y, z] = std::array::from_fn(|i| set.load(&F64x4::new(dirs.map(|w| w[i]))));
+    let one = set.splat(1.0);
+    let inv = one / set.sqrt(x * x + y * y + z * z);
     let (x, y, z) = (x * inv, y * inv, z * inv);
     let rho2 = x * x + y * y;
-    let u = rho2 / (f64x4::ONE + z.abs());
-    let south = z.cmp_lt(f64x4::ZERO).blend(-f64x4::ONE, f64x4::ONE);
-    let (mut c, mut s) = (f64x4::ONE, f64x4::ZERO);
-    let mut diag = f64x4::splat(0.5 / PI.sqrt());
+    let u = rho2 / (one + set.abs(z));
+    let south = set.sign_of_negative(z);
+    let (mut c, mut s) = (one, set.zero());
+    let mut diag = set.splat(0.5 / PI.sqrt());
+    let sqrt2 = set.splat(SQRT_2);
     for m in 0..=lmax {
         if m > 0 {
-            diag *= f64x4::splat(table.diagonal(m));
+            diag = diag * set.splat(table.diagonal(m));
             (c, s) = (x * c - y * s, x * s + y * c);
         }
         let (fc, fs) = if m == 0 {
-            (f64x4::ONE, f64x4::ZERO)
+            (one, set.zero())
         } else {
-            (c * SQRT_2, s * SQRT_2)
+            (c * sqrt2, s * sqrt2)
         };
         let ab = table.column_coefficients(m);
-        let (mut p1, mut p2, mut parity) = (diag, f64x4::ZERO, f64x4::ONE);
+        let (mut p1, mut p2, mut parity) = (diag, set.zero(), one);
         for (k, &[a, b]) in ab.iter().enumerate() {
             if k > 0 {
-                let (a, b) = (f64x4::splat(a), f64x4::splat(b));
+                let (a, b) = (set.splat(a), set.splat(b));
                 let p = a * ((p1 - b * p2) - u * p1);
                 p2 = p1;
                 p1 = p;
-                parity *= south;
+                parity = parity * south;
             }
             let l = m + k;
             let v = p1 * parity;
             if m == 0 {
-                tile[lm_index(l, 0)] = v;
+                tile[lm_index(l, 0)] = set.store(v);
             } else {
-                tile[lm_index(l, m as i64)] = v * fc;
-                tile[lm_index(l, -(m as i64))] = v * fs;
+                tile[lm_index(l, m as i64)] = set.store(v * fc);
+                tile[lm_index(l, -(m as i64))] = set.store(v * fs);
             }
         }
     }

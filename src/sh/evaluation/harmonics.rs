@@ -15,7 +15,6 @@ use multiversion::multiversion;
 use num_complex::Complex64;
 use rayon::prelude::*;
 use std::f64::consts::SQRT_2;
-use wide::f64x4;
 
 /// Entry `U_{m mu}` of the unitary complex-to-real change of basis of PSH (12):
 /// `Y^R_{lm} = sum_mu U_{m mu} Y_{l mu}`; nonzero only for `mu = ±m`.
@@ -251,24 +250,47 @@ impl ShEvaluator {
 
 /// Real SH of degrees `<= table.lmax() <= CARTESIAN_LMAX` at the directions `chunk`
 /// into `rows` (one row of `n = (lmax+1)^2` per direction), four at a time by the Cartesian
-/// kernel (`wide`'s four lanes, fixed when psh is compiled: written with lane arrays and
-/// compiled per instruction set it ran no faster, see `docs/performance.md`).
+/// kernel, in the CPU's best lanes ([`crate::lanes`]).
 fn cartesian_block(table: &Legendre, n: usize, chunk: &[[f64; 3]], rows: &mut [f64]) -> Result<()> {
-    let mut tile = vec![f64x4::ZERO; n];
-    for (chunk, rows) in chunk.chunks(cartesian::LANES).zip(rows.chunks_mut(4 * n)) {
-        for &w in chunk {
-            check_unit(w)?;
-        }
-        let last = chunk[chunk.len() - 1];
-        let lanes = std::array::from_fn(|j| *chunk.get(j).unwrap_or(&last));
-        cartesian::real_lanes(table, &lanes, &mut tile);
-        for (j, row) in rows.chunks_exact_mut(n).enumerate() {
-            for (o, t) in row.iter_mut().zip(&tile) {
-                *o = t.to_array()[j];
+    crate::lanes::with_lanes(CartesianBlock {
+        table,
+        n,
+        chunk,
+        rows,
+    })
+}
+
+/// [`cartesian_block`] as a kernel over the lane sets.
+struct CartesianBlock<'a> {
+    table: &'a Legendre,
+    n: usize,
+    chunk: &'a [[f64; 3]],
+    rows: &'a mut [f64],
+}
+
+impl crate::lanes::WithLanes for CartesianBlock<'_> {
+    type Output = Result<()>;
+
+    #[inline(always)]
+    fn run<L: crate::lanes::LaneSet>(self, set: L) -> Result<()> {
+        let n = self.n;
+        let mut tile = vec![crate::lanes::F64x4::ZERO; n];
+        let blocks = self.chunk.chunks(cartesian::LANES);
+        for (chunk, rows) in blocks.zip(self.rows.chunks_mut(cartesian::LANES * n)) {
+            for &w in chunk {
+                check_unit(w)?;
+            }
+            let last = chunk[chunk.len() - 1];
+            let lanes = std::array::from_fn(|j| *chunk.get(j).unwrap_or(&last));
+            cartesian::real_lanes(set, self.table, &lanes, &mut tile);
+            for (j, row) in rows.chunks_exact_mut(n).enumerate() {
+                for (o, t) in row.iter_mut().zip(&tile) {
+                    *o = t.0[j];
+                }
             }
         }
+        Ok(())
     }
-    Ok(())
 }
 
 /// Real SH at the directions `chunk` into `rows` as [`cartesian_block`], by the

@@ -16,12 +16,14 @@
 //!
 //! The transforms run order by order (orders in parallel, so that each coefficient and
 //! each ring value is summed by one task in a fixed order, whatever the thread count): one
-//! recursion over all northern rings at once, four rings per SIMD vector (`wide::f64x4`,
-//! fused multiply-adds where the target has them), two degrees per pass, leaving out the
+//! recursion over all northern rings at once, four rings per vector (AVX's or the
+//! compiled lanes, chosen at run time: `crate::lanes`; no fused multiply-adds, so the
+//! same bits on every CPU), two degrees per pass, leaving out the
 //! rings near the poles while their values are negligible (below `2^-64`, bound in
 //! `proofs/swsh.md`).
 
 use crate::error::Result;
+use crate::lanes::{with_lanes, F64x4, LaneSet, WithLanes};
 use crate::sh::index::lm_index;
 use crate::sh::recursion::lambda::{Column, Columns, HalfAngle, StartWalk};
 use crate::sh::recursion::legendre::{lane_scale, rescale_lanes, LANE_BLOCK};
@@ -30,7 +32,6 @@ use num_complex::Complex64;
 use rayon::prelude::*;
 use rustfft::{Fft, FftPlanner};
 use std::sync::Arc;
-use wide::f64x4;
 
 /// Band limits below this run on the calling thread: handing so little work to the thread
 /// pool costs more than the work (measured on 2 vCPUs: 2.5x slower at `lmax = 8`).
@@ -40,7 +41,7 @@ const PARALLEL_LMAX: usize = 32;
 const LANES: usize = 4;
 
 /// A recursion start per lane of a vector: mantissa and binary exponent.
-type LaneStart = (f64x4, [i32; LANES]);
+type LaneStart = (F64x4, [i32; LANES]);
 
 /// The grid's mirror ring pairs `theta, pi - theta` in chunks of [`LANES`] (a short last
 /// chunk repeats its last ring; those lanes carry zero data and their results are dropped),
@@ -49,11 +50,11 @@ type LaneStart = (f64x4, [i32; LANES]);
 struct RingLanes {
     /// `(north, south)` ring indices (`north == south` for the equator ring of an odd rule).
     pairs: Vec<(usize, usize)>,
-    u: Vec<f64x4>,
+    u: Vec<F64x4>,
     /// Quadrature weights of the pairs (the same for both rings; the mirror weight is zero
     /// for the equator ring of an odd rule, which the north weight covers, and both are
     /// zero in padding lanes): `[north, mirror]` per lane vector.
-    weights: Vec<[f64x4; 2]>,
+    weights: Vec<[F64x4; 2]>,
     starts: Vec<Vec<LaneStart>>,
 }
 
@@ -68,20 +69,20 @@ impl RingLanes {
                 std::array::from_fn(|j| HalfAngle::from_theta(r.theta[c[j.min(c.len() - 1)].0]))
             })
             .collect();
-        let u = half.iter().map(|h| f64x4::new(h.map(|h| h.u()))).collect();
+        let u = half.iter().map(|h| F64x4::new(h.map(|h| h.u()))).collect();
         let mut starts = vec![Vec::with_capacity(half.len()); columns.list.len()];
         for h in &half {
             let mut walk = StartWalk::new(h, columns.spin);
             for (col, s) in columns.list.iter().zip(&mut starts) {
                 let (p, e) = walk.next(col);
-                s.push((f64x4::new(p), e));
+                s.push((F64x4::new(p), e));
             }
         }
         let weights = pairs
             .chunks(LANES)
             .map(|c| {
                 let w = |mirror: bool| {
-                    f64x4::new(std::array::from_fn(|j| match c.get(j) {
+                    F64x4::new(std::array::from_fn(|j| match c.get(j) {
                         Some(&(jn, js)) if !mirror || js != jn => grid.weight(jn),
                         _ => 0.0,
                     }))
@@ -211,10 +212,18 @@ impl OrderTransform {
         }
     }
 
-    /// Runs the recursion of `col` over every ring pair, handing the degrees to `sweep`.
-    fn sweep_column<S: Sweep>(&self, col: &Column, state: &mut ColumnState, sweep: &mut S) {
+    /// Runs the recursion of `col` over every ring pair, handing the degrees to `sweep`, in
+    /// the CPU's best lanes.
+    fn sweep_column<S: Sweep>(&self, col: &Column, st: &mut ColumnState, sweep: &mut S) {
         let starts = &self.rings.starts[self.columns.index(col.m)];
-        sweep_column(col, &self.rings.u, starts, state, sweep);
+        with_lanes(ColumnSweep {
+            col,
+            unit_c: self.columns.spin == 0,
+            u: &self.rings.u,
+            starts,
+            st,
+            sweep,
+        });
     }
 
     /// Synthesis `f(theta_j, phi_k) = sum_{l >= |s|, m} a_lm sY_lm` onto the grid (lengths
@@ -242,7 +251,7 @@ impl OrderTransform {
             coef.resize(col.coeffs.len(), [0.0; 4]);
             let mut sweep = SynthesisSweep {
                 coef: &coef,
-                rings: vec![[f64x4::ZERO; 4]; chunks],
+                rings: vec![[F64x4::ZERO; 4]; chunks],
             };
             self.sweep_column(col, state, &mut sweep);
             sweep.rings
@@ -251,7 +260,7 @@ impl OrderTransform {
         for (col, rings) in &orders {
             let (bn, bs) = (self.bin(col.m), self.bin(-col.m));
             for (c, v) in rings.iter().enumerate() {
-                let v = v.map(f64x4::to_array);
+                let v = v.map(F64x4::to_array);
                 for j in 0..LANES {
                     let Some((jn, js)) = self.rings.pair(c, j) else {
                         break;
@@ -334,7 +343,7 @@ impl OrderTransform {
             coef.resize(col.coeffs.len(), [0.0; 2]);
             let mut sweep = ParitySynthesisSweep {
                 coef: &coef,
-                rings: vec![[f64x4::ZERO; 4]; chunks],
+                rings: vec![[F64x4::ZERO; 4]; chunks],
             };
             self.sweep_column(col, state, &mut sweep);
             sweep.rings
@@ -448,7 +457,7 @@ impl OrderTransform {
         &self,
         mirrored: bool,
         g: impl Fn(usize, usize) -> Option<[f64; 4]>,
-    ) -> Vec<[f64x4; 4]> {
+    ) -> Vec<[F64x4; 4]> {
         let weights = self.rings.weights.iter().enumerate();
         weights
             .map(|(c, &[north, mirror])| {
@@ -465,7 +474,7 @@ impl OrderTransform {
                         v[q][j] = g[q];
                     }
                 }
-                std::array::from_fn(|q| f64x4::new(v[q]) * w[q])
+                std::array::from_fn(|q| F64x4::new(std::array::from_fn(|j| v[q][j] * w[q].0[j])))
             })
             .collect()
     }
@@ -489,17 +498,18 @@ fn signed_order_pairs(lmax: usize) -> Vec<Vec<i64>> {
 }
 
 /// What a sweep does with the values `Lambda_lm(theta_j)` of one column at every lane
-/// vector, two degrees at a time (`k = l - l0` and `k + 1`, `k` even), vector by vector. The
-/// last pair may reach `l = lmax + 1`, where the values are zero.
+/// vector, two degrees at a time (`k = l - l0` and `k + 1`, `k` even), vector by vector, in
+/// the lanes of a [`LaneSet`]. The last pair may reach `l = lmax + 1`, where the values are
+/// zero.
 trait Sweep {
     /// Per-pair state, held in registers over the vectors.
-    type Degrees;
+    type Degrees<L: LaneSet>;
     /// Before the vectors of degrees `k`, `k + 1`.
-    fn begin(&mut self, k: usize) -> Self::Degrees;
+    fn begin<L: LaneSet>(&mut self, set: L, k: usize) -> Self::Degrees<L>;
     /// The values of vector `c` at the two degrees.
-    fn chunk(&mut self, d: &mut Self::Degrees, c: usize, values: [f64x4; 2]);
+    fn chunk<L: LaneSet>(&mut self, set: L, d: &mut Self::Degrees<L>, c: usize, values: [L::V; 2]);
     /// After the vectors of degrees `k`, `k + 1`.
-    fn end(&mut self, k: usize, d: Self::Degrees);
+    fn end<L: LaneSet>(&mut self, set: L, k: usize, d: Self::Degrees<L>);
 }
 
 /// Real synthesis: per vector, `[re, im]` of the even-degree sum `sum_{k even} a_k Lambda_k`
@@ -507,59 +517,57 @@ trait Sweep {
 /// `k = l - l0` and `l0 = m` at spin 0, so the parity of `k` is that of `l + m`).
 struct ParitySynthesisSweep<'a> {
     coef: &'a [[f64; 2]],
-    rings: Vec<[f64x4; 4]>,
+    rings: Vec<[F64x4; 4]>,
 }
 
 impl Sweep for ParitySynthesisSweep<'_> {
-    type Degrees = [f64x4; 4];
+    type Degrees<L: LaneSet> = [L::V; 4];
 
     #[inline(always)]
-    fn begin(&mut self, k: usize) -> Self::Degrees {
+    fn begin<L: LaneSet>(&mut self, set: L, k: usize) -> [L::V; 4] {
         let [e, o] = [self.coef[k], self.coef[k + 1]];
-        [e[0], e[1], o[0], o[1]].map(f64x4::splat)
+        [e[0], e[1], o[0], o[1]].map(|x| set.splat(x))
     }
 
     #[inline(always)]
-    fn chunk(&mut self, d: &mut Self::Degrees, c: usize, [v0, v1]: [f64x4; 2]) {
+    fn chunk<L: LaneSet>(&mut self, set: L, d: &mut [L::V; 4], c: usize, [v0, v1]: [L::V; 2]) {
         let acc = &mut self.rings[c];
-        acc[0] = v0.mul_add(d[0], acc[0]);
-        acc[1] = v0.mul_add(d[1], acc[1]);
-        acc[2] = v1.mul_add(d[2], acc[2]);
-        acc[3] = v1.mul_add(d[3], acc[3]);
+        for (q, v) in [v0, v0, v1, v1].into_iter().enumerate() {
+            acc[q] = set.store(set.mul_add(v, d[q], set.load(&acc[q])));
+        }
     }
 
     #[inline(always)]
-    fn end(&mut self, _: usize, _: Self::Degrees) {}
+    fn end<L: LaneSet>(&mut self, _: L, _: usize, _: [L::V; 4]) {}
 }
 
 /// Real analysis: `sums[k] = sum_j Lambda_k(theta_j) P_j` with `P` the weighted even
 /// combination of the north and mirror spectra for even `k`, the odd one for odd `k`, from
 /// `phases[c] = [even.re, even.im, odd.re, odd.im]` (`sums` padded to the pairs).
 struct ParityAnalysisSweep<'a> {
-    phases: &'a [[f64x4; 4]],
+    phases: &'a [[F64x4; 4]],
     sums: Vec<Complex64>,
 }
 
 impl Sweep for ParityAnalysisSweep<'_> {
-    type Degrees = [f64x4; 4];
+    type Degrees<L: LaneSet> = [L::V; 4];
 
     #[inline(always)]
-    fn begin(&mut self, _: usize) -> Self::Degrees {
-        [f64x4::ZERO; 4]
+    fn begin<L: LaneSet>(&mut self, set: L, _: usize) -> [L::V; 4] {
+        [set.zero(); 4]
     }
 
     #[inline(always)]
-    fn chunk(&mut self, d: &mut Self::Degrees, c: usize, [v0, v1]: [f64x4; 2]) {
+    fn chunk<L: LaneSet>(&mut self, set: L, d: &mut [L::V; 4], c: usize, [v0, v1]: [L::V; 2]) {
         let g = &self.phases[c];
-        d[0] = v0.mul_add(g[0], d[0]);
-        d[1] = v0.mul_add(g[1], d[1]);
-        d[2] = v1.mul_add(g[2], d[2]);
-        d[3] = v1.mul_add(g[3], d[3]);
+        for (q, v) in [v0, v0, v1, v1].into_iter().enumerate() {
+            d[q] = set.mul_add(v, set.load(&g[q]), d[q]);
+        }
     }
 
     #[inline(always)]
-    fn end(&mut self, k: usize, d: Self::Degrees) {
-        let s = d.map(f64x4::reduce_add);
+    fn end<L: LaneSet>(&mut self, set: L, k: usize, d: [L::V; 4]) {
+        let s = d.map(|v| set.reduce_add(v));
         self.sums[k] = Complex64::new(s[0], s[1]);
         self.sums[k + 1] = Complex64::new(s[2], s[3]);
     }
@@ -570,60 +578,60 @@ impl Sweep for ParityAnalysisSweep<'_> {
 /// (padded with zeros to the pairs).
 struct SynthesisSweep<'a> {
     coef: &'a [[f64; 4]],
-    rings: Vec<[f64x4; 4]>,
+    rings: Vec<[F64x4; 4]>,
 }
 
 impl Sweep for SynthesisSweep<'_> {
-    type Degrees = [[f64x4; 4]; 2];
+    type Degrees<L: LaneSet> = [[L::V; 4]; 2];
 
     #[inline(always)]
-    fn begin(&mut self, k: usize) -> Self::Degrees {
+    fn begin<L: LaneSet>(&mut self, set: L, k: usize) -> [[L::V; 4]; 2] {
         [
-            self.coef[k].map(f64x4::splat),
-            self.coef[k + 1].map(f64x4::splat),
+            self.coef[k].map(|x| set.splat(x)),
+            self.coef[k + 1].map(|x| set.splat(x)),
         ]
     }
 
     #[inline(always)]
-    fn chunk(&mut self, d: &mut Self::Degrees, c: usize, [v0, v1]: [f64x4; 2]) {
-        for ((acc, a0), a1) in self.rings[c].iter_mut().zip(&d[0]).zip(&d[1]) {
-            *acc = v0.mul_add(*a0, v1.mul_add(*a1, *acc));
+    fn chunk<L: LaneSet>(&mut self, set: L, d: &mut [[L::V; 4]; 2], c: usize, [v0, v1]: [L::V; 2]) {
+        for ((acc, &a0), &a1) in self.rings[c].iter_mut().zip(&d[0]).zip(&d[1]) {
+            *acc = set.store(set.mul_add(v0, a0, set.mul_add(v1, a1, set.load(acc))));
         }
     }
 
     #[inline(always)]
-    fn end(&mut self, _: usize, _: Self::Degrees) {}
+    fn end<L: LaneSet>(&mut self, _: L, _: usize, _: [[L::V; 4]; 2]) {}
 }
 
 /// Analysis: `sums[k] = [sum_j Lambda G_j(m) w_j, sum_j Lambda G_j'(-m) w_j]` from
 /// `phases[c] = [re, im]` of the weighted north and mirror spectra of vector `c` (`sums`
 /// padded to the pairs).
 struct AnalysisSweep<'a> {
-    phases: &'a [[f64x4; 4]],
+    phases: &'a [[F64x4; 4]],
     sums: Vec<[Complex64; 2]>,
 }
 
 impl Sweep for AnalysisSweep<'_> {
-    type Degrees = [[f64x4; 4]; 2];
+    type Degrees<L: LaneSet> = [[L::V; 4]; 2];
 
     #[inline(always)]
-    fn begin(&mut self, _: usize) -> Self::Degrees {
-        [[f64x4::ZERO; 4]; 2]
+    fn begin<L: LaneSet>(&mut self, set: L, _: usize) -> [[L::V; 4]; 2] {
+        [[set.zero(); 4]; 2]
     }
 
     #[inline(always)]
-    fn chunk(&mut self, d: &mut Self::Degrees, c: usize, values: [f64x4; 2]) {
+    fn chunk<L: LaneSet>(&mut self, set: L, d: &mut [[L::V; 4]; 2], c: usize, values: [L::V; 2]) {
         for (dk, v) in d.iter_mut().zip(values) {
             for (acc, g) in dk.iter_mut().zip(&self.phases[c]) {
-                *acc = v.mul_add(*g, *acc);
+                *acc = set.mul_add(v, set.load(g), *acc);
             }
         }
     }
 
     #[inline(always)]
-    fn end(&mut self, k: usize, d: Self::Degrees) {
+    fn end<L: LaneSet>(&mut self, set: L, k: usize, d: [[L::V; 4]; 2]) {
         for (sum, dk) in self.sums[k..k + 2].iter_mut().zip(d) {
-            let s = dk.map(f64x4::reduce_add);
+            let s = dk.map(|v| set.reduce_add(v));
             *sum = [Complex64::new(s[0], s[1]), Complex64::new(s[2], s[3])];
         }
     }
@@ -632,10 +640,10 @@ impl Sweep for AnalysisSweep<'_> {
 /// The recursion state of one column at every lane vector (reused between columns).
 #[derive(Default)]
 struct ColumnState {
-    p1: Vec<f64x4>,
-    p2: Vec<f64x4>,
+    p1: Vec<F64x4>,
+    p2: Vec<F64x4>,
     exp: Vec<[i32; LANES]>,
-    fac: Vec<f64x4>,
+    fac: Vec<F64x4>,
 }
 
 /// Values `|Lambda_lm(theta_j)| < 2^-64` that a sweep may leave out: the lane vectors of
@@ -644,6 +652,31 @@ struct ColumnState {
 /// less than `2^-64 sum_j w_j (|G_j(m)| + |G_j'(m)|) <= 2^-64 * 4 pi max |f|` and a
 /// synthesis value by less than `2^-64 sum_lm |a_lm|`, far below rounding (proofs/swsh.md).
 const NEGLIGIBLE: f64 = f64::from_bits((1023 - 64) << 52);
+
+/// One column's sweep as a kernel over the lane sets ([`with_lanes`]).
+struct ColumnSweep<'a, S> {
+    col: &'a Column,
+    /// Spin 0: every step's `c` is 1 (but the first, whose `p_{l-1}` is 0, and the
+    /// padding, whose `A` is 0), so `c p_{l-1}` is `p_{l-1}`, bit for bit.
+    unit_c: bool,
+    u: &'a [F64x4],
+    starts: &'a [LaneStart],
+    st: &'a mut ColumnState,
+    sweep: &'a mut S,
+}
+
+impl<S: Sweep> WithLanes for ColumnSweep<'_, S> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<L: LaneSet>(self, set: L) {
+        if self.unit_c {
+            sweep_column::<L, S, true>(set, self.col, self.u, self.starts, self.st, self.sweep)
+        } else {
+            sweep_column::<L, S, false>(set, self.col, self.u, self.starts, self.st, self.sweep)
+        }
+    }
+}
 
 /// Runs the recursion of `col` at every lane vector (`u`, `starts` per vector) and hands
 /// the degrees pair by pair to `sweep`.
@@ -657,24 +690,27 @@ const NEGLIGIBLE: f64 = f64::from_bits((1023 - 64) << 52);
 /// The vectors `0..live` only run the recursion while
 /// all their values at both degrees of each pair are below [`NEGLIGIBLE`]; `live` starts
 /// past the last vector and moves to the first vector that reaches it (checked at every
-/// pair, so nothing at or above it is left out).
-fn sweep_column<S: Sweep>(
+/// pair, so nothing at or above it is left out). `UNIT_C`: every `c` is 1 (spin 0), its
+/// product left out.
+#[inline(always)]
+fn sweep_column<L: LaneSet, S: Sweep, const UNIT_C: bool>(
+    set: L,
     col: &Column,
-    u: &[f64x4],
+    u: &[F64x4],
     starts: &[LaneStart],
     st: &mut ColumnState,
     sweep: &mut S,
 ) {
     // p_{-1} = 0, p_{-2} = -start: the first step [1, 1, 0] gives the start.
     st.p1.clear();
-    st.p1.resize(starts.len(), f64x4::ZERO);
+    st.p1.resize(starts.len(), F64x4::ZERO);
     st.p2.clear();
-    st.p2.extend(starts.iter().map(|s| -s.0));
+    st.p2
+        .extend(starts.iter().map(|s| F64x4(s.0 .0.map(|x| -x))));
     st.exp.clear();
     st.exp.extend(starts.iter().map(|s| s.1));
     st.fac.clear();
-    st.fac
-        .extend(st.exp.iter().map(|e| f64x4::new(lane_scale(e))));
+    st.fac.extend(st.exp.iter().map(|e| F64x4(lane_scale(e))));
     let scaled_end = |exp: &[[i32; LANES]]| {
         exp.iter()
             .rposition(|e| e.iter().any(|&e| e < 0))
@@ -690,14 +726,13 @@ fn sweep_column<S: Sweep>(
         } else {
             n
         };
-        sweep_degrees(&col.coeffs, u, st, sweep, k..end, scaled, &mut live);
+        sweep_degrees::<L, S, UNIT_C>(set, &col.coeffs, u, st, sweep, k..end, scaled, &mut live);
         if scaled > 0 {
             let lanes = st.p1.iter_mut().zip(&mut st.p2);
             let state = lanes.zip(st.exp.iter_mut().zip(&mut st.fac)).take(scaled);
             for ((p1, p2), (e, f)) in state {
-                let (mut a, mut b) = (p1.to_array(), p2.to_array());
-                rescale_lanes(&mut a, &mut b, e);
-                (*p1, *p2, *f) = (f64x4::new(a), f64x4::new(b), f64x4::new(lane_scale(e)));
+                rescale_lanes(&mut p1.0, &mut p2.0, e);
+                *f = F64x4(lane_scale(e));
             }
             scaled = scaled_end(&st.exp[..scaled]);
         }
@@ -710,9 +745,11 @@ fn sweep_column<S: Sweep>(
 /// vectors `0..scaled` take their output factors, the vectors `0..live` only recurse while
 /// negligible (see [`sweep_column`]).
 #[inline(always)]
-fn sweep_degrees<S: Sweep>(
+#[allow(clippy::too_many_arguments)]
+fn sweep_degrees<L: LaneSet, S: Sweep, const UNIT_C: bool>(
+    set: L,
     coeffs: &[[f64; 3]],
-    u: &[f64x4],
+    u: &[F64x4],
     st: &mut ColumnState,
     sweep: &mut S,
     range: std::ops::Range<usize>,
@@ -721,46 +758,52 @@ fn sweep_degrees<S: Sweep>(
 ) {
     let (p1, p2, fac) = (&mut st.p1[..], &mut st.p2[..], &st.fac[..]);
     for k in range.step_by(2) {
-        let [a0, b0, c0] = coeffs[k].map(f64x4::splat);
-        let [a1, b1, c1] = coeffs[k + 1].map(f64x4::splat);
-        let step = |p1: &mut f64x4, p2: &mut f64x4, u: f64x4| {
+        let [a0, b0, c0] = coeffs[k].map(|x| set.splat(x));
+        let [a1, b1, c1] = coeffs[k + 1].map(|x| set.splat(x));
+        let times_c = |c: L::V, x: L::V| if UNIT_C { x } else { c * x };
+        // The values at degrees k, k + 1 of a vector, stored as its new state.
+        let step = |p1: &mut F64x4, p2: &mut F64x4, u: &F64x4| {
+            let (q1, q2, u) = (set.load(p1), set.load(p2), set.load(u));
             // (c p1 - B p2) - u p1, not (c - u) p1 - B p2: at c = 1 (spin 0) `1 - u` would
             // round cos(theta) and lose near the poles what u keeps (`sh::recursion::legendre`).
-            let p = a0 * u.mul_neg_add(*p1, b0.mul_neg_add(*p2, c0 * *p1));
-            let q = a1 * u.mul_neg_add(p, b1.mul_neg_add(*p1, c1 * p));
-            *p2 = p;
-            *p1 = q;
+            let p = a0 * set.mul_neg_add(u, q1, set.mul_neg_add(b0, q2, times_c(c0, q1)));
+            let q = a1 * set.mul_neg_add(u, p, set.mul_neg_add(b1, q1, times_c(c1, p)));
+            (*p2, *p1) = (set.store(p), set.store(q));
+            [p, q]
         };
         // Near the poles: per lane, the largest value of vector c at either degree (one
         // product per vector).
-        let peak = |p: f64x4, q: f64x4, x: f64x4| p.abs().fast_max(q.abs()) * x;
-        let reaches = |v: f64x4| v.to_array().iter().any(|&b| b >= NEGLIGIBLE);
-        let mut big = f64x4::ZERO;
+        let peak = |[p, q]: [L::V; 2], x: &F64x4| set.max(set.abs(p), set.abs(q)) * set.load(x);
+        let reaches = |v: L::V| set.store(v).0.iter().any(|&b| b >= NEGLIGIBLE);
+        let scaled_values = |p1: &F64x4, p2: &F64x4, x: &F64x4| {
+            let x = set.load(x);
+            [set.load(p2) * x, set.load(p1) * x]
+        };
+        let mut big = set.zero();
         let near = p1[..*live].iter_mut().zip(&mut p2[..*live]);
-        for ((p1, p2), (&u, &x)) in near.zip(u.iter().zip(fac)) {
-            step(p1, p2, u);
-            big = big.fast_max(peak(*p1, *p2, x));
+        for ((p1, p2), (u, x)) in near.zip(u.iter().zip(fac)) {
+            big = set.max(big, peak(step(p1, p2, u), x));
         }
-        let mut d = sweep.begin(k);
+        let mut d = sweep.begin(set, k);
         let mid = scaled.clamp(*live, u.len());
         for c in *live..mid {
-            step(&mut p1[c], &mut p2[c], u[c]);
-            sweep.chunk(&mut d, c, [p2[c] * fac[c], p1[c] * fac[c]]);
+            step(&mut p1[c], &mut p2[c], &u[c]);
+            sweep.chunk(set, &mut d, c, scaled_values(&p1[c], &p2[c], &fac[c]));
         }
         let far = p1[mid..].iter_mut().zip(&mut p2[mid..]).zip(&u[mid..]);
-        for (i, ((p1, p2), &u)) in far.enumerate() {
-            step(p1, p2, u);
-            sweep.chunk(&mut d, mid + i, [*p2, *p1]);
+        for (i, ((p1, p2), u)) in far.enumerate() {
+            let values = step(p1, p2, u);
+            sweep.chunk(set, &mut d, mid + i, values);
         }
         if reaches(big) {
             let was = *live;
             *live = (0..was)
-                .find(|&c| reaches(peak(p1[c], p2[c], fac[c])))
+                .find(|&c| reaches(peak([set.load(&p1[c]), set.load(&p2[c])], &fac[c])))
                 .unwrap_or(was);
             for c in *live..was {
-                sweep.chunk(&mut d, c, [p2[c] * fac[c], p1[c] * fac[c]]);
+                sweep.chunk(set, &mut d, c, scaled_values(&p1[c], &p2[c], &fac[c]));
             }
         }
-        sweep.end(k, d);
+        sweep.end(set, k, d);
     }
 }

@@ -13,11 +13,15 @@
 //! not contract them), so the kernels give the same bits on every CPU, which a test
 //! checks kernel by kernel against the baseline bodies ([`dispatch!`]).
 //!
-//! Not every kernel gains: the transforms' order sums (`sh::transform::sweeps`) written
-//! with these lanes and dispatched ran their analyses 1.15x (scalar) and 1.8x (spin 2)
-//! faster but their syntheses 1.3-1.9x slower (the loop vectorizer turned the
-//! accumulation into ring vectors into gathers and scatters), so they keep `wide`'s
-//! lanes for now (`docs/performance.md`).
+//! Loops over many four-lane vectors (the transforms' order sums, the Cartesian SH kernel)
+//! use [`LaneSet`] instead ([`sets`]): vector registers by type, AVX's chosen at run time
+//! through `pulp`'s token, under the same rule of no fused multiply-adds. Written with
+//! [`F64x4`] and dispatched, the sums' syntheses ran 1.3-1.9x slower: the loop vectorizer
+//! turned the accumulation into ring vectors into gathers and scatters
+//! (`docs/performance.md`).
+
+mod sets;
+pub(crate) use sets::{with_lanes, LaneSet, WithLanes};
 
 /// Four `f64` lanes; arithmetic lane by lane.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -126,9 +130,9 @@ mod tests {
         (on_baseline(false, &f), on_baseline(true, &f))
     }
 
-    /// Every dispatched kernel gives the bits of its baseline body: the batch SH above the
-    /// Cartesian kernel's band limit (the polar lanes, with the exponent scaling near the
-    /// poles), the Wigner blocks (Risbo's steps and the complex rows) and the PSH
+    /// Every dispatched kernel gives the bits of its baseline body: the batch SH (the
+    /// Cartesian kernel, and the polar lanes above its band limit, with the exponent scaling
+    /// near the poles), the transforms' sweeps, the Wigner blocks (Risbo's steps and the complex rows) and the PSH
     /// rotation's products, on random input and at the poles. A version that fused its
     /// multiply-adds or summed in another order would differ in the last bits.
     #[test]
@@ -143,9 +147,10 @@ mod tests {
                 let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
                 [v[0] / n, v[1] / n, v[2] / n]
             })
-            .chain([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]])
+            .chain([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [1.0, 0.0, -0.0]])
             .collect();
-        for l in [40, 90] {
+        // The Cartesian kernel (l <= 24) and the polar lanes above it.
+        for l in [4, 24, 40, 90] {
             let sh = ShEvaluator::new(l).unwrap();
             let (a, b) = both(|| {
                 let mut out = vec![0.0; dirs.len() * sh.len()];
@@ -177,8 +182,41 @@ mod tests {
                 "Wigner D blocks at {roll}, {pitch}, {yaw}"
             );
         }
-        let r = nalgebra::Rotation3::from_euler_angles(0.3, -1.1, 2.0);
+        // The transforms' sweeps (AVX lanes against the compiled ones): real and spin-2
+        // synthesis and analysis at a band limit whose rings near the poles start below the
+        // f64 range (the exponent scaling) and are left out while negligible.
+        let lmax = 300;
+        let real = crate::sh::ShTransform::new(lmax).unwrap();
+        let coeffs = pseudo_random(num_coeffs(lmax), 3);
+        let (a, b) = both(|| {
+            let mut field = vec![0.0; real.grid().len()];
+            real.synthesis_real(&coeffs, &mut field).unwrap();
+            let mut back = vec![0.0; coeffs.len()];
+            real.analysis_real(&field, &mut back).unwrap();
+            [field, back].concat()
+        });
+        assert!(
+            a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()),
+            "real transforms"
+        );
+        let spin = crate::swsh::SpinTransform::new(2, lmax).unwrap();
+        let coeffs: Vec<_> = coeffs
+            .iter()
+            .map(|&x| num_complex::Complex64::new(x, 0.5 - x))
+            .collect();
+        let (a, b) = both(|| {
+            let mut field = vec![num_complex::Complex64::default(); spin.grid().len()];
+            spin.synthesis(&coeffs, &mut field).unwrap();
+            let mut back = vec![num_complex::Complex64::default(); coeffs.len()];
+            spin.analysis(&field, &mut back).unwrap();
+            [field, back].concat()
+        });
+        assert!(
+            a.iter().zip(&b).all(|(x, y)| bits(x) == bits(y)),
+            "spin-2 transforms"
+        );
 
+        let r = nalgebra::Rotation3::from_euler_angles(0.3, -1.1, 2.0);
         let l = 12;
         let mut data = pseudo_random(2 * num_coeffs(l) * 4, 11);
         for (j, x) in data.iter_mut().enumerate() {
