@@ -132,7 +132,7 @@ mod tests {
 
     /// Every dispatched kernel gives the bits of its baseline body: the batch SH (the
     /// Cartesian kernel, and the polar lanes above its band limit, with the exponent scaling
-    /// near the poles), the transforms' sweeps, the Wigner blocks (Risbo's steps and the complex rows) and the PSH
+    /// near the poles), the transforms' sweeps, the PSH evaluator's sums, the Wigner blocks (Risbo's steps and the complex rows) and the PSH
     /// rotation's products, on random input and at the poles. A version that fused its
     /// multiply-adds or summed in another order would differ in the last bits.
     #[test]
@@ -214,6 +214,23 @@ mod tests {
         assert!(
             a.iter().zip(&b).all(|(x, y)| bits(x) == bits(y)),
             "spin-2 transforms"
+        );
+
+        // The PSH evaluator's sums (the PPRT frame's per-vertex evaluation).
+        let v = crate::testing::random_psh(9, Codomain::Full, 3, 5).unwrap();
+        let (a, b) = both(|| {
+            let mut eval = crate::polarized::PshEvaluator::new(9).unwrap();
+            let mut out = vec![[0.0; 4]; 3];
+            let mut all = Vec::new();
+            for &w in &dirs {
+                eval.evaluate_into(&v, w, &mut out).unwrap();
+                all.extend(out.iter().flatten().copied());
+            }
+            all
+        });
+        assert!(
+            a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()),
+            "PSH evaluation"
         );
 
         let r = nalgebra::Rotation3::from_euler_angles(0.3, -1.1, 2.0);

@@ -7,10 +7,12 @@ use super::PshVector;
 use crate::error::{check_len, Error, Result};
 use crate::geometry::direction_angles;
 use crate::geometry::frame::{Frame, FrameField, ThetaPhiFrameField};
+use crate::lanes::F64x4;
 use crate::sh::evaluation::harmonics::ShEvaluator;
 use crate::sh::num_coeffs;
 use crate::stokes::StokesVector;
 use crate::swsh::SpinEvaluator;
+use multiversion::multiversion;
 use num_complex::Complex64;
 
 /// Evaluates PSH vectors of band limit up to `lmax` at single directions (reuse one per
@@ -115,31 +117,50 @@ impl PshEvaluator {
         );
         let full = comps == [0, 1, 2, 3];
         for (x, s) in v.data().chunks_exact(n * np).zip(out.iter_mut()) {
-            let (mut a, mut b) = ([0.0; 4], [0.0; 4]);
-            let mut add = |xj: [f64; 4], [wa, wb]: &[[f64; 4]; 2]| {
-                for q in 0..4 {
-                    a[q] += xj[q] * wa[q];
-                    b[q] += xj[q] * wb[q];
-                }
-            };
-            if full {
-                for (xj, w) in x.chunks_exact(4).zip(&self.weights) {
-                    add([xj[0], xj[1], xj[2], xj[3]], w);
-                }
+            let [a, b] = if full {
+                crate::lanes::dispatch!(weighted_sums_simd | weighted_sums(x, &self.weights))
             } else {
+                let mut ab = [F64x4::ZERO; 2];
                 for (xj, w) in x.chunks_exact(np).zip(&self.weights) {
                     // The components of the codomain in their Stokes slots, zero elsewhere.
                     let mut full_x = [0.0; 4];
                     for (&c, &p) in xj.iter().zip(comps) {
                         full_x[p] = c;
                     }
-                    add(full_x, w);
+                    accumulate(&mut ab, full_x, w);
                 }
-            }
+                ab
+            };
+            let (a, b) = (a.to_array(), b.to_array());
             *s = [a[0], a[1] - b[2], a[2] + b[1], a[3]];
         }
         Ok(frame)
     }
+}
+
+/// `[a, b] += [x * wa, x * wb]`, lane by lane (the sums of [`PshEvaluator::evaluate_into`]).
+#[inline(always)]
+fn accumulate(ab: &mut [F64x4; 2], x: [f64; 4], [wa, wb]: &[[f64; 4]; 2]) {
+    let x = F64x4::new(x);
+    ab[0] = x.mul_add(F64x4::new(*wa), ab[0]);
+    ab[1] = x.mul_add(F64x4::new(*wb), ab[1]);
+}
+
+/// The sums `a`, `b` of [`PshEvaluator::evaluate_into`] over the coefficients `x` of one
+/// channel (all four Stokes components, in coefficient order).
+#[inline(always)]
+fn weighted_sums(x: &[f64], weights: &[[[f64; 4]; 2]]) -> [F64x4; 2] {
+    let mut ab = [F64x4::ZERO; 2];
+    for (xj, w) in x.chunks_exact(4).zip(weights) {
+        accumulate(&mut ab, [xj[0], xj[1], xj[2], xj[3]], w);
+    }
+    ab
+}
+
+/// [`weighted_sums`] compiled per instruction set ([`crate::lanes`]).
+#[multiversion(targets = "simd")]
+fn weighted_sums_simd(x: &[f64], weights: &[[[f64; 4]; 2]]) -> [F64x4; 2] {
+    weighted_sums(x, weights)
 }
 
 #[cfg(test)]
