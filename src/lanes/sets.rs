@@ -44,6 +44,13 @@ pub(crate) trait LaneSet: Copy {
     /// `-1` where `v < 0`, else `1` (`+1` at `-0` and NaN), lane by lane.
     fn sign_of_negative(self, v: Self::V) -> Self::V;
 
+    /// The 4 x 4 transpose: lane `j` of `v[i]` to lane `i` of the result's `j`.
+    #[inline(always)]
+    fn transpose(self, v: [Self::V; 4]) -> [Self::V; 4] {
+        let a = v.map(|v| self.store(v).0);
+        std::array::from_fn(|j| self.load(&F64x4(std::array::from_fn(|i| a[i][j]))))
+    }
+
     /// Every lane 0.
     #[inline(always)]
     fn zero(self) -> Self::V {
@@ -216,6 +223,26 @@ impl LaneSet for Avx {
     #[inline(always)]
     fn max(self, a: AvxV, b: AvxV) -> AvxV {
         a.with(self.0.avx._mm256_max_pd(a.v, b.v))
+    }
+
+    #[inline(always)]
+    fn transpose(self, [a, b, c, d]: [AvxV; 4]) -> [AvxV; 4] {
+        let avx = self.0.avx;
+        // [a0 b0 a2 b2], [a1 b1 a3 b3], [c0 d0 c2 d2], [c1 d1 c3 d3]
+        let (ab0, ab1) = (
+            avx._mm256_unpacklo_pd(a.v, b.v),
+            avx._mm256_unpackhi_pd(a.v, b.v),
+        );
+        let (cd0, cd1) = (
+            avx._mm256_unpacklo_pd(c.v, d.v),
+            avx._mm256_unpackhi_pd(c.v, d.v),
+        );
+        [
+            a.with(avx._mm256_permute2f128_pd::<0x20>(ab0, cd0)),
+            a.with(avx._mm256_permute2f128_pd::<0x20>(ab1, cd1)),
+            a.with(avx._mm256_permute2f128_pd::<0x31>(ab0, cd0)),
+            a.with(avx._mm256_permute2f128_pd::<0x31>(ab1, cd1)),
+        ]
     }
 
     #[inline(always)]

@@ -283,9 +283,28 @@ impl crate::lanes::WithLanes for CartesianBlock<'_> {
             let last = chunk[chunk.len() - 1];
             let lanes = std::array::from_fn(|j| *chunk.get(j).unwrap_or(&last));
             cartesian::real_lanes(set, self.table, &lanes, &mut tile);
-            for (j, row) in rows.chunks_exact_mut(n).enumerate() {
-                for (o, t) in row.iter_mut().zip(&tile) {
-                    *o = t.0[j];
+            // Lane j of every value into row j: four values of four rows at a time by a
+            // 4 x 4 transpose (read lane by lane, row after row, the compiler gathered them).
+            let mut rows = rows.chunks_exact_mut(n);
+            match (rows.next(), rows.next(), rows.next(), rows.next()) {
+                (Some(r0), Some(r1), Some(r2), Some(r3)) => {
+                    let quads = tile.chunks_exact(4).enumerate();
+                    for (q, t) in quads {
+                        let v = set.transpose([0, 1, 2, 3].map(|k| set.load(&t[k])));
+                        for (r, v) in [&mut *r0, &mut *r1, &mut *r2, &mut *r3].into_iter().zip(v) {
+                            r[4 * q..4 * q + 4].copy_from_slice(&set.store(v).0);
+                        }
+                    }
+                    for i in n - n % 4..n {
+                        [r0[i], r1[i], r2[i], r3[i]] = tile[i].0;
+                    }
+                }
+                (r0, r1, r2, _) => {
+                    for (j, row) in [r0, r1, r2].into_iter().flatten().enumerate() {
+                        for (o, t) in row.iter_mut().zip(&tile) {
+                            *o = t.0[j];
+                        }
+                    }
                 }
             }
         }
