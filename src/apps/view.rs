@@ -5,7 +5,7 @@
 //! primary hits and the light seen directly); and the current view saved as `psh render`
 //! writes its pictures.
 //!
-//! A frame is what [`super::render_job`] renders for a [`RenderJob`] with the same
+//! A frame is what [`super::render_job()`] renders for a [`RenderJob`] with the same
 //! [`SceneSetup::orbit`](super::SceneSetup) and
 //! [`SceneSetup::environment_turn_deg`](super::SceneSetup), band limits and
 //! [`ValidRange`]: the same stages on the same inputs.
@@ -162,7 +162,8 @@ impl Viewer {
                 format!("an index below {}", self.prepared.len()),
             ));
         }
-        if !(request.environment_turn_deg.abs() <= 360.0) {
+        let turn = request.environment_turn_deg;
+        if !turn.is_finite() || turn.abs() > 360.0 {
             return Err(Error::invalid(
                 "environment turn",
                 format!("{} degrees", request.environment_turn_deg),
@@ -237,7 +238,7 @@ impl Viewer {
 
     /// Writes `frame` into a new directory `dir/view-NNN` (the first number free; never
     /// over an existing one) as `psh render` writes its pictures
-    /// ([`super::render_job`]: `render_s{0..3}.exr`, `render_{s0,s1,s2,s3,dop,aop}.png`,
+    /// ([`super::render_job()`]: `render_s{0..3}.exr`, `render_{s0,s1,s2,s3,dop,aop}.png`,
     /// `polarizer_{deg}.png` for each angle of `polarizers_deg`, `render_object.exr`) and
     /// `view.json` (the request and the band limits). Returns the directory.
     pub fn save(
@@ -247,10 +248,12 @@ impl Viewer {
         polarizers_deg: &[f64],
         dir: &Path,
     ) -> Result<PathBuf> {
-        let mut check = RenderJob::default();
-        check.polarizers_deg = polarizers_deg.to_vec();
-        check.out = dir.to_path_buf();
-        check.check_outputs()?;
+        RenderJob {
+            polarizers_deg: polarizers_deg.to_vec(),
+            out: dir.to_path_buf(),
+            ..RenderJob::default()
+        }
+        .check_outputs()?;
         std::fs::create_dir_all(dir).map_err(|e| crate::io::io_error(dir, e))?;
         let mut free = None;
         for k in 1..=999 {
@@ -291,7 +294,7 @@ impl Viewer {
                 frame.projected.as_deref(),
                 &out,
             )?;
-            crate::io::write_text(&out.join("view.json"), &note).map(drop)
+            crate::io::write_text(out.join("view.json"), &note).map(drop)
         })?;
         Ok(out)
     }

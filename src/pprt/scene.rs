@@ -207,10 +207,8 @@ impl Camera {
         let r = offset.norm();
         let el = (offset.z / r).clamp(-1.0, 1.0).asin() + elevation;
         let az = offset.y.atan2(offset.x) + azimuth;
-        if !(azimuth.is_finite() && el.abs() <= Self::MAX_ORBIT_ELEVATION)
-            || !(zoom > 0.0 && zoom <= 1000.0)
-            || r == 0.0
-        {
+        let inside = el.abs() <= Self::MAX_ORBIT_ELEVATION && zoom > 0.0 && zoom <= 1000.0;
+        if !(azimuth.is_finite() && inside) || r == 0.0 {
             return Err(Error::invalid(
                 "camera orbit",
                 format!(

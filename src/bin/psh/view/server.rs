@@ -8,7 +8,7 @@
 //! | `GET /info` | JSON: the scene's name, full size, band limits, pictures, bounds |
 //! | `GET /frame?...` | a frame ([`super::encode`]); 400 naming a bad parameter, 503 when busy |
 //! | `POST /save?...&polarizers=A,B` | the frame's pictures written as `psh render` writes them; JSON with the directory |
-//! | `GET /stats` | JSON: frames rendered, cancelled, refused as busy |
+//! | `GET /stats` | JSON: frames and saves rendered, cancelled (their client left), refused as busy |
 
 use super::encode::encode;
 use super::limits::{Bounded, Frames, MAX_CONNECTIONS, MAX_FRAMES};
@@ -167,21 +167,22 @@ async fn with_viewer<T: Send + 'static>(
     let done = tokio::task::spawn_blocking(move || {
         let _slot = slot;
         let progress = Gone(gone);
-        if progress.cancelled() {
-            return Err(psh::Error::Interrupted {
-                what: "a frame whose client left".into(),
-            });
-        }
         let mut viewer = worker.viewer.lock().unwrap_or_else(|p| p.into_inner());
         // Its client may have left while it waited for the renderer.
-        progress.check_cancelled("a frame whose client left")?;
-        work(&mut viewer, &progress)
+        let done = progress
+            .check_cancelled("a frame whose client left")
+            .and_then(|()| work(&mut viewer, &progress));
+        let count = match done {
+            Err(psh::Error::Interrupted { .. }) => &worker.cancelled,
+            _ => &worker.rendered,
+        };
+        count.fetch_add(1, Ordering::Relaxed);
+        done
     })
     .await;
     match done {
         Ok(Ok(value)) => Ok(value),
         Ok(Err(psh::Error::Interrupted { .. })) => {
-            app.cancelled.fetch_add(1, Ordering::Relaxed);
             Err((StatusCode::SERVICE_UNAVAILABLE, "cancelled\n").into_response())
         }
         Ok(Err(e)) => Err(bad_request(&e)),
@@ -197,7 +198,6 @@ async fn frame(
         Ok(q) => q,
         Err(e) => return bad_request(&e),
     };
-    let counter = Arc::clone(&app);
     let done = with_viewer(app, move |viewer, progress| {
         let frame = viewer.frame(&request, progress)?;
         let bands = viewer.band_limits()[request.bands];
@@ -218,7 +218,6 @@ async fn frame(
     .await;
     match done {
         Ok((bytes, s, encode_s)) => {
-            counter.rendered.fetch_add(1, Ordering::Relaxed);
             let timing = format!(
                 "turn;dur={:.3}, camera;dur={:.3}, frame;dur={:.3}, encode;dur={:.3}",
                 1e3 * s[0],
