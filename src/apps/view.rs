@@ -16,7 +16,7 @@ use crate::error::{Error, Result};
 use crate::polarized::PshVector;
 use crate::pprt::plan::Plan;
 use crate::pprt::render::{direct_light, primary_hits, render_frame, StokesImage};
-use crate::pprt::scene::{Camera, Hit, Scene};
+use crate::pprt::scene::{Camera, EnvironmentSource, Hit, Scene};
 use crate::pprt::settings::{high_orders_number, TransferSettings, Visibility};
 use crate::pprt::transfer::{precompute_planned, retransfer, VertexTransfer};
 use crate::progress::Progress;
@@ -39,6 +39,12 @@ pub struct ViewRequest {
     pub bands: usize,
     /// Projection onto the valid range PSH (70), or not.
     pub valid_range: ValidRange,
+    /// A quick frame while the page is dragged: the environment seen directly taken from
+    /// the transfer's band-limited coefficients ([`Scene::environment`]) instead of the
+    /// source at its own band limit, where the source is coefficients or a map (a `.npz`
+    /// vector at `l <= 100` costs most of a camera's time); the analytic sky stays exact.
+    /// Otherwise the frame is the full one.
+    pub preview: bool,
 }
 
 /// A rendered frame of a view.
@@ -68,6 +74,9 @@ struct Turned {
     bands: usize,
     turn_deg: f64,
     scene: Scene,
+    /// The scene whose source is its band-limited environment, for previews (made when
+    /// first asked; `None` too for the analytic sky, whose scene serves).
+    preview: Option<Scene>,
     transfer: Vec<Vec<VertexTransfer>>,
     high: Vec<Option<PshVector>>,
 }
@@ -76,6 +85,7 @@ struct Turned {
 struct Seen {
     bands: usize,
     turn_deg: f64,
+    preview: bool,
     camera: Camera,
     hits: Vec<Option<Hit>>,
     direct: Vec<[[f64; 4]; 3]>,
@@ -197,19 +207,38 @@ impl Viewer {
         let t_turn = t0.elapsed().as_secs_f64();
         let turned = self.turned.as_mut().expect("set above");
         turned.scene.set_camera(camera.clone());
+        let preview =
+            request.preview && !matches!(turned.scene.source(), EnvironmentSource::Sky(_));
+        if preview && turned.preview.is_none() {
+            let source = EnvironmentSource::Coefficients(turned.scene.environment().clone());
+            turned.preview = Some(turned.scene.clone().with_source(source)?);
+        }
+        let seen_from = match (preview, &mut turned.preview) {
+            (true, Some(scene)) => {
+                scene.set_camera(camera.clone());
+                &*scene
+            }
+            _ => &turned.scene,
+        };
         progress.check_cancelled("the view's frame")?;
         let t1 = Instant::now();
-        let same = |s: &Seen| s.bands == request.bands && s.turn_deg == turn && s.camera == camera;
+        let same = |s: &Seen| {
+            s.bands == request.bands
+                && s.turn_deg == turn
+                && s.preview == preview
+                && s.camera == camera
+        };
         if !self.seen.as_ref().is_some_and(same) {
             let hits = match self.seen.take() {
                 Some(s) if s.camera == camera => s.hits,
-                _ => primary_hits(&turned.scene),
+                _ => primary_hits(seen_from),
             };
             progress.check_cancelled("the view's frame")?;
-            let direct = direct_light(&turned.scene, &hits)?;
+            let direct = direct_light(seen_from, &hits)?;
             self.seen = Some(Seen {
                 bands: request.bands,
                 turn_deg: turn,
+                preview,
                 camera,
                 hits,
                 direct,
@@ -319,6 +348,7 @@ fn turn_environment(
         return Ok(Turned {
             bands,
             turn_deg,
+            preview: None,
             scene: prepared.scene.clone(),
             transfer: prepared.transfer.clone(),
             high,
@@ -340,6 +370,7 @@ fn turn_environment(
     Ok(Turned {
         bands,
         turn_deg,
+        preview: None,
         scene,
         transfer,
         high,

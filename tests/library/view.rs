@@ -65,8 +65,16 @@ fn a_view_frame_is_the_render_jobs_image() {
             size,
             bands: 0,
             valid_range: ValidRange::Keep,
+            preview: false,
         };
         let frame = viewer.frame(&request, &Silent).unwrap();
+        // Under the analytic sky a preview is the full frame.
+        let preview = ViewRequest {
+            preview: true,
+            ..request
+        };
+        let quick = viewer.frame(&preview, &Silent).unwrap();
+        assert_eq!(quick.image.channels, frame.image.channels);
         let mut other = job.clone();
         other.scene.orbit = Some(orbit);
         other.scene.environment_turn_deg = turn;
@@ -105,6 +113,7 @@ fn bad_view_requests_are_errors_and_saves_never_clobber() {
         size,
         bands: 0,
         valid_range: ValidRange::Project,
+        preview: false,
     };
     let bad = [
         (ViewRequest { bands: 1, ..good }, "band limits"),

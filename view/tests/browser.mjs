@@ -12,6 +12,7 @@
 // on such rounding would differ by more: at most 0.05% of the pixels may (reported).
 //
 //   node view/tests/browser.mjs        (after cargo build --release; $CHROMIUM or `which chromium`)
+//   PSH_VIEW_SCENE=scenes/buddha.toml node view/tests/browser.mjs   (a scene file, its camera's size)
 import { chromium } from "playwright-core";
 import { execFileSync } from "node:child_process";
 import { mkdirSync, mkdtempSync, readFileSync, rmSync } from "node:fs";
@@ -19,8 +20,9 @@ import os from "node:os";
 import path from "node:path";
 import { psh, root, startView, stopView } from "./server.mjs";
 
-const W = 256, H = 192;
-const shots = path.join(root, "target/view-test");
+const scene = process.env.PSH_VIEW_SCENE;
+const sceneArgs = scene ? ["--scene", scene] : ["--size", "256x192"];
+const shots = path.join(root, "target/view-test", scene ? path.basename(scene, ".toml") : "builtin");
 mkdirSync(shots, { recursive: true });
 const tmp = mkdtempSync(path.join(os.tmpdir(), "psh-view-test-"));
 const executablePath = process.env.CHROMIUM || execFileSync("which", ["chromium"]).toString().trim();
@@ -31,7 +33,7 @@ function check(name, ok, detail) {
   if (ok) passed++; else failed++;
 }
 
-const { url, child } = await startView(["--size", `${W}x${H}`, "--save-dir", path.join(tmp, "saves")]);
+const { url, child } = await startView([...sceneArgs, "--save-dir", path.join(tmp, "saves")]);
 let browser;
 try {
   // A fresh profile (--user-data-dir) in the temporary directory.
@@ -39,7 +41,7 @@ try {
     executablePath,
     args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
       "--disable-quic", "--no-first-run", "--disable-component-update", "--disable-sync"],
-    viewport: { width: 900, height: 520 },
+    viewport: { width: 1100, height: 600 },
   });
   const page = await browser.newPage();
   page.on("console", (m) => console.log("page:", m.text()));
@@ -52,6 +54,7 @@ try {
     }, fullFrames, { timeout: 120_000 });
   };
   await settled(0);
+  const { width: W, height: H } = await page.evaluate(() => window.pshView.info);
   await page.screenshot({ path: path.join(shots, "start.png") });
 
   // Drag the camera: 60 pixels right and 25 down across the canvas.
@@ -103,7 +106,7 @@ try {
 
   const st = await page.evaluate(() => ({ ...window.pshView.state }));
   const out = path.join(tmp, "render");
-  execFileSync(psh, ["render", "--size", `${W}x${H}`, "--orbit", `${st.az},${st.el},${st.zoom}`,
+  execFileSync(psh, ["render", ...sceneArgs, "--orbit", `${st.az},${st.el},${st.zoom}`,
     "--turn-environment", String(st.turn), "--polarizer", "30", "--out", out], { stdio: ["ignore", "ignore", "inherit"] });
 
   await compare("s0 after dragging and turning the environment", path.join(out, "render_s0.png"));

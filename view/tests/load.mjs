@@ -5,10 +5,11 @@
 // time: every frame answer is 200 or 503 (busy), bad parameters 400, unknown paths 404,
 // the server answers after it all, and its resident memory stays under a bound.
 //
-//   node view/tests/load.mjs [WxH]        (default 512x384; after cargo build --release)
+//   node view/tests/load.mjs [WxH [SCENE]]   (default 512x384, the built-in scene; a scene
+//                                            file renders at its camera's size)
 import { startView, stopView, rssMiB } from "./server.mjs";
 
-const [W, H] = (process.argv[2] || "512x384").split("x").map(Number);
+const size = process.argv[2] || "512x384", scene = process.argv[3];
 const CLIENTS = 8, PER_CLIENT = 6, RSS_BOUND_MIB = 2048;
 let passed = 0, failed = 0;
 function check(name, ok, detail) {
@@ -16,9 +17,10 @@ function check(name, ok, detail) {
   if (ok) passed++; else failed++;
 }
 
-const { url, child } = await startView(["--size", `${W}x${H}`]);
+const { url, child } = await startView(scene ? ["--scene", scene] : ["--size", size]);
+const { width: W, height: H } = await (await fetch(`${url}info`)).json();
 const frameUrl = (p) => `${url}frame?` + new URLSearchParams({
-  az: 0, el: 0, zoom: 1, turn: 0, w: W, h: H, bands: 0, show: "s0", valid: "project", ...p });
+  az: 0, el: 0, zoom: 1, turn: 0, w: W, h: H, bands: 0, show: "s0", valid: "project", preview: 0, ...p });
 // One request with a timeout (no hang): status, bytes, server timings and milliseconds.
 async function get(u, init = {}) {
   const t0 = performance.now();
@@ -51,9 +53,11 @@ try {
     console.log(`${name}: ${(1e3 * n / sums.total).toFixed(1)} frames/s; per frame: environment turn ${m(sums.turn)} ms, camera ${m(sums.camera)} ms, frame ${m(sums.frame)} ms, encode ${m(sums.encode)} ms, transfer ${m(sums.transfer)} ms, total ${m(sums.total)} ms`);
     check(`${name}: every frame 200`, ok);
   }
-  const half = { w: W >> 1, h: H >> 1 };
+  const half = { w: W >> 1, h: H >> 1, preview: 1 };
   await rate(`orbit, ${W} x ${H}`, 10, (k) => ({ az: 3 * k }));
   await rate(`orbit while dragging, ${half.w} x ${half.h}`, 10, (k) => ({ az: 3 * k, ...half }));
+  const quarter = { w: W >> 2, h: H >> 2, preview: 1 };
+  await rate(`orbit while dragging, ${quarter.w} x ${quarter.h}`, 10, (k) => ({ az: 3 * k, ...quarter }));
   await rate(`environment turn, ${W} x ${H}`, 4, (k) => ({ turn: 5 * k }));
   await rate(`environment turn while dragging, ${half.w} x ${half.h}`, 4, (k) => ({ turn: 5 * k + 2, ...half }));
   await rate(`polarizer data, ${W} x ${H} (camera and environment still)`, 10, () => ({ show: "polarizer" }));
@@ -63,7 +67,7 @@ try {
   const statuses = await Promise.all(Array.from({ length: CLIENTS }, async (_, c) => {
     const got = [];
     for (let k = 0; k < PER_CLIENT; k++) {
-      got.push((await get(frameUrl({ az: 7 * c + k, el: k, w: W >> 1, h: H >> 1 }))).status);
+      got.push((await get(frameUrl({ az: 7 * c + k, el: k, w: W >> 1, h: H >> 1, preview: 1 }))).status);
       sample();
     }
     return got;

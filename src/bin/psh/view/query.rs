@@ -24,9 +24,10 @@ pub struct FrameQuery {
 
 /// The parameters, each required: `az`, `el` (degrees), `zoom` (the orbit, [`Orbit`]),
 /// `turn` (degrees), `w`, `h` (pixels), `bands` (index), `show` (a picture's name or
-/// `polarizer`), `valid` (`project` or `keep`).
-pub const KEYS: [&str; 9] = [
-    "az", "el", "zoom", "turn", "w", "h", "bands", "show", "valid",
+/// `polarizer`), `valid` (`project` or `keep`), `preview` (1 while dragging, else 0:
+/// [`ViewRequest::preview`]).
+pub const KEYS: [&str; 10] = [
+    "az", "el", "zoom", "turn", "w", "h", "bands", "show", "valid", "preview",
 ];
 
 /// The frame the `pairs` of a query ask for. Errors name the parameter and its value.
@@ -108,6 +109,11 @@ pub fn parse(pairs: &[(String, String)]) -> psh::Result<FrameQuery> {
             },
             bands: count("bands")?,
             valid_range,
+            preview: match get("preview")? {
+                "0" => false,
+                "1" => true,
+                other => return Err(Error::invalid("preview", other.to_string(), "0 or 1")),
+            },
         },
         show,
     })

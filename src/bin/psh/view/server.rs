@@ -246,10 +246,12 @@ async fn save(
         Ok(p) => p,
         Err(e) => return bad_request(&e),
     };
-    let FrameQuery { request, .. } = match parse(&pairs) {
+    let FrameQuery { mut request, .. } = match parse(&pairs) {
         Ok(q) => q,
         Err(e) => return bad_request(&e),
     };
+    // A save is of the full frame.
+    request.preview = false;
     let dir = app.save_dir.clone();
     let done = with_viewer(app, move |viewer, progress| {
         let frame = viewer.frame(&request, progress)?;
