@@ -1,9 +1,10 @@
 //! The interactive viewer's renderer (`psh view`): a render job's scene precomputed once
 //! per band limits, then frames for a camera orbit, an environment turn and an image size,
-//! each stage redone only when its inputs change (a turn redoes the transfer's products
-//! with the visibility kept, [`crate::pprt::stages::retransfer`]; a camera redoes the
-//! primary hits and the light seen directly); and the current view saved as `psh render`
-//! writes its pictures.
+//! each stage redone only when its inputs change (a turn interpolates the transfer over
+//! turns, [`crate::pprt::stages::TransferTurns`], or redoes its products with the
+//! visibility kept, [`crate::pprt::stages::retransfer`]; a camera redoes the primary hits
+//! and the light seen directly); and the current view saved as `psh render` writes its
+//! pictures.
 //!
 //! A frame is what [`super::render_job()`] renders for a [`RenderJob`] with the same
 //! [`SceneSetup::orbit`](super::SceneSetup) and
@@ -19,6 +20,7 @@ use crate::pprt::render::{direct_light, primary_hits, render_frame, StokesImage}
 use crate::pprt::scene::{Camera, EnvironmentSource, Hit, Scene};
 use crate::pprt::settings::{high_orders_number, TransferSettings, Visibility};
 use crate::pprt::transfer::{precompute_planned, retransfer, VertexTransfer};
+use crate::pprt::turns::TransferTurns;
 use crate::progress::Progress;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -66,6 +68,9 @@ struct Prepared {
     scene: Scene,
     plan: Plan,
     transfer: Vec<Vec<VertexTransfer>>,
+    /// The transfer sampled over turns of the environment ([`TransferTurns`]), made at
+    /// the first turn asked when it fits [`TransferTurns::MAX_BYTES`].
+    turns: Option<TransferTurns>,
 }
 
 /// The environment as last turned: the scene (its camera the last one asked), the
@@ -128,6 +133,7 @@ impl Viewer {
                 scene: loaded.scene,
                 plan,
                 transfer,
+                turns: None,
             });
         }
         Ok(Self {
@@ -196,7 +202,7 @@ impl Viewer {
     /// ([`Error::Interrupted`]).
     pub fn frame(&mut self, request: &ViewRequest, progress: &dyn Progress) -> Result<ViewFrame> {
         self.check(request)?;
-        let prepared = &self.prepared[request.bands];
+        let prepared = &mut self.prepared[request.bands];
         let camera = request.orbit.camera(&prepared.scene, request.size)?;
         let turn = request.environment_turn_deg;
         let t0 = Instant::now();
@@ -335,10 +341,11 @@ fn settings_bands(settings: TransferSettings) -> (usize, usize) {
 }
 
 /// The scene of `prepared` with its environment turned by `turn_deg` degrees, its transfer
-/// (the products redone with the visibility kept) and high orders (the convolved
-/// environment turned: convolution commutes with rotations, PSH (68)).
+/// (interpolated over turns, [`TransferTurns`], the samples made at the first turn when
+/// they fit; else the products redone with the visibility kept) and high orders (the
+/// convolved environment turned: convolution commutes with rotations, PSH (68)).
 fn turn_environment(
-    prepared: &Prepared,
+    prepared: &mut Prepared,
     bands: usize,
     turn_deg: f64,
     progress: &dyn Progress,
@@ -354,15 +361,26 @@ fn turn_environment(
             high,
         });
     }
-    let scene = prepared
-        .scene
-        .clone()
-        .with_environment_turned(turn_deg.to_radians())?;
-    let transfer = match prepared.plan.visibility {
-        Visibility::Rays => retransfer(&scene, &prepared.plan, &prepared.transfer, progress)?,
-        _ => precompute_planned(&scene, &prepared.plan, progress)?,
+    let fits = TransferTurns::bytes(&prepared.plan, &prepared.transfer) <= TransferTurns::MAX_BYTES;
+    if fits && prepared.turns.is_none() {
+        let turns = TransferTurns::new(
+            &prepared.scene,
+            &prepared.plan,
+            &prepared.transfer,
+            progress,
+        )?;
+        prepared.turns = Some(turns);
+    }
+    let angle = turn_deg.to_radians();
+    let scene = prepared.scene.clone().with_environment_turned(angle)?;
+    let transfer = match (&prepared.turns, prepared.plan.visibility) {
+        (Some(turns), _) => turns.at(&prepared.transfer, angle)?,
+        (None, Visibility::Rays) => {
+            retransfer(&scene, &prepared.plan, &prepared.transfer, progress)?
+        }
+        (None, _) => precompute_planned(&scene, &prepared.plan, progress)?,
     };
-    let turn = crate::pprt::sky::vertical_turn(turn_deg.to_radians())?;
+    let turn = crate::pprt::sky::vertical_turn(angle)?;
     let high = high
         .into_iter()
         .map(|h| h.map(|h| h.rotated(&turn)).transpose())

@@ -5,7 +5,8 @@
 //! 1. [`precompute_planned`] (or [`precompute`] without a plan): per vertex, visibility
 //!    ([`ray_visibility`] over [`VisibilityRays`]) and the transfer PSH (54)-(56),
 //!    (35)-(37), (41); [`high_order_fields`] for the orders above `l_low`. After a turn of
-//!    the environment alone, [`retransfer`] redoes the products with the visibility kept.
+//!    the environment alone, [`retransfer`] redoes the products with the visibility kept;
+//!    [`TransferTurns`] gives the transfer at any turn about the vertical from a few.
 //! 2. [`primary_hits`]: the camera's rays against the BVH, once per camera.
 //! 3. [`direct_light`]: the directional lights' exact reflection with shadow rays, PSH (39).
 //! 4. [`render_frame`]: the runtime frame PSH (14), (30) in the camera's frames

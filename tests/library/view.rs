@@ -23,10 +23,11 @@ fn relative_difference(a: &psh::pprt::StokesImage, b: &psh::pprt::StokesImage) -
     diff / scale
 }
 
-/// A frame with the camera orbited and the environment turned (the transfer's products
-/// redone with the visibility kept, the high orders and the sky turned) equals the render
-/// job of a scene set up with the same orbit and turn (precomputed from scratch), to
-/// rounding; a frame back at turn 0 equals the job without a turn.
+/// A frame with the camera orbited and the environment turned (the transfer interpolated
+/// over turns from 9 samples, `TransferTurns`, each the products redone with the
+/// visibility kept; the high orders and the sky turned) equals the render job of a scene
+/// set up with the same orbit and turn (precomputed from scratch), to rounding; a frame
+/// back at turn 0 equals the job without a turn.
 #[test]
 fn a_view_frame_is_the_render_jobs_image() {
     let size = ImageSize {

@@ -58,8 +58,15 @@ try {
   await rate(`orbit while dragging, ${half.w} x ${half.h}`, 10, (k) => ({ az: 3 * k, ...half }));
   const quarter = { w: W >> 2, h: H >> 2, preview: 1 };
   await rate(`orbit while dragging, ${quarter.w} x ${quarter.h}`, 10, (k) => ({ az: 3 * k, ...quarter }));
-  await rate(`environment turn, ${W} x ${H}`, 4, (k) => ({ turn: 5 * k }));
-  await rate(`environment turn while dragging, ${half.w} x ${half.h}`, 4, (k) => ({ turn: 5 * k + 2, ...half }));
+  // The first turn of a setting samples the transfer over turns (pprt::stages::TransferTurns):
+  // the warm-up frame (k = 0) pays it.
+  await rate(`environment turn, ${W} x ${H}`, 4, (k) => ({ turn: 5 * k + 1 }));
+  await rate(`environment turn while dragging, ${half.w} x ${half.h}`, 4, (k) => ({ turn: 5 * k + 3, ...half }));
+  const info = await (await fetch(`${url}info`)).json();
+  if (info.bands.length > 1) {
+    const [lo, hi] = info.bands[1];
+    await rate(`environment turn while dragging, ${half.w} x ${half.h}, l_low ${lo}, l_high ${hi}`, 4, (k) => ({ turn: 5 * k + 1, bands: 1, ...half }));
+  }
   await rate(`polarizer data, ${W} x ${H} (camera and environment still)`, 10, () => ({ show: "polarizer" }));
 
   // Many clients at once: each answer 200 or 503 (busy), never anything else or a hang.
