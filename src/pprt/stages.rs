@@ -23,3 +23,4 @@ pub use super::render::{direct_light, primary_hits, render_frame, vertex_stokes}
 pub use super::transfer::{
     high_order_fields, precompute, precompute_planned, ray_visibility, retransfer, VisibilityRays,
 };
+pub use super::turns::TransferTurns;
