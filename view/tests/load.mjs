@@ -9,6 +9,9 @@
 //
 //   node view/tests/load.mjs [WxH [SCENE]]   (default 512x384, the built-in scene; a scene
 //                                            file renders at its camera's size)
+import { mkdtempSync, rmSync } from "node:fs";
+import os from "node:os";
+import path from "node:path";
 import { startView, stopView, rssMiB } from "./server.mjs";
 
 const size = process.argv[2] || "512x384", scene = process.argv[3];
@@ -19,7 +22,8 @@ function check(name, ok, detail) {
   if (ok) passed++; else failed++;
 }
 
-const { url, child } = await startView(scene ? ["--scene", scene] : ["--size", size]);
+const saves = mkdtempSync(path.join(os.tmpdir(), "psh-view-load-"));
+const { url, child } = await startView([...(scene ? ["--scene", scene] : ["--size", size]), "--save-dir", saves]);
 const { width: W, height: H } = await (await fetch(`${url}info`)).json();
 const frameUrl = (p) => `${url}frame?` + new URLSearchParams({
   az: 0, el: 0, zoom: 1, turn: 0, w: W, h: H, bands: 0, show: "s0", valid: "project", preview: 0, ...p });
@@ -123,6 +127,7 @@ try {
   check(`server memory under ${bound.toFixed(0)} MiB`, peak < bound, `${peak.toFixed(0)} MiB`);
 } finally {
   stopView(child);
+  rmSync(saves, { recursive: true, force: true });
 }
 console.log(`${passed} passed, ${failed} failed`);
 process.exit(failed ? 1 : 0);
