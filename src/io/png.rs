@@ -341,9 +341,17 @@ fn texel_pictures(
         };
         sink(name, legend, rgb)
     };
-    pictures.intensity(&mut save)?;
-    pictures.components(&mut save)?;
-    pictures.polarization(&mut save)
+    // Each family's scales are computed only when one of its pictures is wanted.
+    if wanted("s0") {
+        pictures.intensity(&mut save)?;
+    }
+    if ["s1", "s2", "s3"].iter().any(|&n| wanted(n)) {
+        pictures.components(&mut save)?;
+    }
+    if ["dop", "aop"].iter().any(|&n| wanted(n)) {
+        pictures.polarization(&mut save)?;
+    }
+    Ok(())
 }
 
 /// Writes one picture: its name, legend and colour per pixel.

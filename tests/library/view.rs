@@ -197,3 +197,32 @@ fn bad_view_requests_are_errors_and_saves_never_clobber() {
     assert!(viewer.save(&frame, &good, &[f64::NAN], &dir).is_err());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The transfer interpolated over turns (`TransferTurns`, `2 l_low + 1` samples) equals the
+/// products redone for the turned environment (`retransfer`) at turns between the samples:
+/// each coefficient is a trigonometric polynomial of degree `l_low` in the turn.
+#[test]
+fn the_transfer_interpolated_over_turns_is_exact() {
+    use psh::pprt::stages::{precompute_planned, retransfer, TransferTurns};
+    use psh::pprt::{builtin_scene, Plan, Planning, TransferSettings};
+    let scene = builtin_scene(9, 8, 6).unwrap();
+    let plan = Plan::new(&scene, TransferSettings::default(), Planning::Full).unwrap();
+    let transfer = precompute_planned(&scene, &plan, &Silent).unwrap();
+    let turns = TransferTurns::new(&scene, &plan, &transfer, &Silent).unwrap();
+    for angle in [0.3f64, -2.0, 4.0] {
+        let turned = scene.clone().with_environment_turned(angle).unwrap();
+        let direct = retransfer(&turned, &plan, &transfer, &Silent).unwrap();
+        let interpolated = turns.at(&transfer, angle).unwrap();
+        let (mut worst, mut scale) = (0.0f64, 0.0f64);
+        for (a, b) in direct.iter().flatten().zip(interpolated.iter().flatten()) {
+            for (x, y) in a.radiance.data().iter().zip(b.radiance.data()) {
+                worst = worst.max((x - y).abs());
+                scale = scale.max(x.abs());
+            }
+        }
+        assert!(
+            worst <= 1e-11 * scale,
+            "turn {angle}: {worst:e} of {scale:e}"
+        );
+    }
+}
