@@ -12,6 +12,7 @@
 //! | [`lights_demo`] | adaptive light grids (`psh lights-demo`) | SHH Fig. 2 |
 //! | [`polygon_lights_demo`] | polygonal lights on grids (`psh polygon-lights-demo`) | SHG |
 //! | [`plot`] | line plots as PNG | |
+//! | [`view`] | the interactive viewer's frames and saved views (`psh view`) | PSH Sec. 7, Fig. 1 |
 
 pub mod bench_error;
 pub mod filter_report;
@@ -23,7 +24,10 @@ pub mod render_job;
 pub mod render_pictures;
 pub mod render_report;
 pub mod render_settings;
+pub mod view;
 
 pub use render_job::{ablation_job, reference_job, render_job, JobReport, LoadedJob};
+pub use render_pictures::polarizer_exposure;
 pub use render_report::{AblationReport, ReferenceReport, RenderReport};
-pub use render_settings::{ImageSize, RenderJob, Renderer, SceneSetup, Shadows, ValidRange};
+pub use render_settings::{ImageSize, Orbit, RenderJob, Renderer, SceneSetup, Shadows, ValidRange};
+pub use view::{ViewFrame, ViewRequest, Viewer, MAX_VIEW_SIDE};

@@ -152,14 +152,7 @@ pub fn render_job(
     let mut image = render_frame(scene, &transfer, &high, &hits, &direct)?;
     let unphysical = image.unphysical();
     let per_object = image.unphysical_per_object(scene.objects().len());
-    let projected = match valid_range {
-        ValidRange::Project => {
-            let mask = image.unphysical_mask();
-            image.to_nearest_physical()?;
-            Some(mask)
-        }
-        ValidRange::Keep => None,
-    };
+    let projected = valid_range.apply(&mut image)?;
     let t_frame = t2.elapsed().as_secs_f64();
     // The pictures, the EXR files and the report appear together or not at all.
     let report = crate::io::all_or_nothing(&[], || {

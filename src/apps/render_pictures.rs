@@ -62,6 +62,15 @@ pub(crate) fn write_pictures(
     Ok(written)
 }
 
+/// The exposure of the pictures through polarizers: `1 / q99`, `q99` the 99th percentile
+/// of the green channel's `|s0|`, so that unpolarized light, halved by the polarizer and
+/// doubled back, looks as in the `s0` picture.
+pub fn polarizer_exposure(image: &StokesImage) -> f64 {
+    let mut s0: Vec<f64> = image.channels[1].iter().map(|s| s[0].abs()).collect();
+    s0.sort_by(f64::total_cmp);
+    1.0 / s0[(0.99 * (s0.len() - 1) as f64) as usize].max(1e-300)
+}
+
 /// The RGB picture through a polarizer at `deg` degrees, doubled (Malus halves
 /// unpolarized light) and exposed so that the 99th percentile of the green channel's `s0`
 /// is white: unpolarized light looks as in the `s0` picture.
@@ -74,9 +83,7 @@ fn write_polarizer_png(
     let through = (0..3)
         .map(|c| image.through_polarizer(c, deg.to_radians()))
         .collect::<Result<Vec<_>>>()?;
-    let mut s0: Vec<f64> = image.channels[1].iter().map(|s| s[0].abs()).collect();
-    s0.sort_by(f64::total_cmp);
-    let exposure = 1.0 / s0[(0.99 * (s0.len() - 1) as f64) as usize].max(1e-300);
+    let exposure = polarizer_exposure(image);
     // A negative intensity through the polarizer breaks PSH (70): flagged, not black.
     let negative: Vec<bool> = (0..image.width * image.height)
         .map(|k| (0..3).any(|c| through[c][k] < 0.0))

@@ -3,7 +3,8 @@
 //! [`RenderJob`] or a [`SceneSetup`] and never repeat a default.
 
 use crate::error::{Error, Result};
-use crate::pprt::scene::Scene;
+use crate::pprt::render::StokesImage;
+use crate::pprt::scene::{Camera, Scene};
 use crate::pprt::settings::{Planning, TransferSettings, Visibility};
 use crate::pprt::Sun;
 use crate::sh::Window;
@@ -45,6 +46,59 @@ impl std::str::FromStr for ImageSize {
     }
 }
 
+/// A camera moved about the scene's orbit pivot ([`Scene::orbit_pivot`],
+/// [`Camera::orbited`]): degrees of azimuth about the vertical and of elevation added to
+/// the scene camera's, its distance divided by `zoom`; written `AZ,EL,ZOOM`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Orbit {
+    /// Degrees added to the camera's azimuth about the pivot (towards `+y` from `+x`).
+    pub azimuth_deg: f64,
+    /// Degrees added to the camera's elevation above the pivot.
+    pub elevation_deg: f64,
+    /// The camera's distance to the pivot divided by this (> 1: closer).
+    pub zoom: f64,
+}
+
+impl Orbit {
+    /// The scene camera moved by this orbit, `size` pixels. Errors: as
+    /// [`Camera::orbited`].
+    pub fn camera(&self, scene: &Scene, size: ImageSize) -> Result<Camera> {
+        scene.camera().orbited(
+            scene.orbit_pivot(),
+            self.azimuth_deg.to_radians(),
+            self.elevation_deg.to_radians(),
+            self.zoom,
+            size.width,
+            size.height,
+        )
+    }
+}
+
+impl std::str::FromStr for Orbit {
+    type Err = Error;
+
+    /// `AZ,EL,ZOOM`: three numbers (checked against the scene by [`Orbit::camera`]).
+    fn from_str(text: &str) -> Result<Self> {
+        let parts: Vec<f64> = text
+            .split(',')
+            .map(|p| p.trim().parse::<f64>())
+            .collect::<std::result::Result<_, _>>()
+            .map_err(|_| Error::invalid("--orbit", text.to_string(), "expected AZ,EL,ZOOM"))?;
+        match parts[..] {
+            [azimuth_deg, elevation_deg, zoom] => Ok(Orbit {
+                azimuth_deg,
+                elevation_deg,
+                zoom,
+            }),
+            _ => Err(Error::invalid(
+                "--orbit",
+                text.to_string(),
+                "expected three numbers AZ,EL,ZOOM (degrees, degrees, factor)",
+            )),
+        }
+    }
+}
+
 /// Where a job's scene comes from and what the job changes of it.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
@@ -58,6 +112,11 @@ pub struct SceneSetup {
     /// The window tapering the environment's band limit; `None`: the scene file's
     /// `window` (none for the built-in scene).
     pub window: Option<Window>,
+    /// The camera moved about the scene ([`Orbit`]); `None`: the scene's camera.
+    pub orbit: Option<Orbit>,
+    /// Degrees the environment is turned about the world's vertical
+    /// ([`Scene::with_environment_turned`]); 0: as the scene has it.
+    pub environment_turn_deg: f64,
 }
 
 impl Default for SceneSetup {
@@ -68,14 +127,17 @@ impl Default for SceneSetup {
             size: ImageSize::RENDER,
             sun: None,
             window: None,
+            orbit: None,
+            environment_turn_deg: 0.0,
         }
     }
 }
 
 impl SceneSetup {
     /// The scene, its environment band-limited to `lmax` (a file's at least to its own
-    /// settings), with the sun and window asked for; and its name for messages. Error: a
-    /// sun asked of a scene without the analytic sky.
+    /// settings), with the sun and window asked for, then turned and seen from the orbit
+    /// asked for; and its name for messages. Errors: a sun asked of a scene without the
+    /// analytic sky, a turn or orbit out of range.
     pub fn load(&self, lmax: usize) -> Result<(Scene, String)> {
         let (scene, name) = match &self.file {
             Some(path) => (
@@ -96,7 +158,19 @@ impl SceneSetup {
             (None, Some(path)) => crate::io::scene_window(path)?,
             (None, None) => Window::None,
         };
-        Ok((scene.windowed(window), name))
+        let mut scene = scene.windowed(window);
+        if self.environment_turn_deg != 0.0 {
+            scene = scene.with_environment_turned(self.environment_turn_deg.to_radians())?;
+        }
+        if let Some(orbit) = self.orbit {
+            let cam = scene.camera();
+            let size = ImageSize {
+                width: cam.width,
+                height: cam.height,
+            };
+            scene.set_camera(orbit.camera(&scene, size)?);
+        }
+        Ok((scene, name))
     }
 
     /// The transfer settings of the scene: the file's `[settings]`, or the defaults.
@@ -127,6 +201,23 @@ pub enum ValidRange {
     Project,
     /// The transport's vectors kept (the pixels breaking PSH (70) show in magenta).
     Keep,
+}
+
+impl ValidRange {
+    /// Applies this choice to `image`: with [`ValidRange::Project`] every pixel projected
+    /// onto the valid range ([`StokesImage::to_nearest_physical`]), returning the mask
+    /// of the pixels that broke it; `None` with [`ValidRange::Keep`]. Error: a non-finite
+    /// component.
+    pub fn apply(self, image: &mut StokesImage) -> Result<Option<Vec<bool>>> {
+        match self {
+            ValidRange::Project => {
+                let mask = image.unphysical_mask();
+                image.to_nearest_physical()?;
+                Ok(Some(mask))
+            }
+            ValidRange::Keep => Ok(None),
+        }
+    }
 }
 
 /// Which renderer a job runs.

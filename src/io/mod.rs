@@ -59,8 +59,8 @@ pub use output::{
 };
 pub use pbsdf::{read_pbsdf, write_pbsdf};
 pub use png::{
-    diverging, hatched, srgb8, write_map_pngs, write_matrix_png, write_png, write_png_with_legend,
-    write_stokes_pngs, PictureNotes, UNPHYSICAL,
+    diverging, hatched, srgb8, stokes_picture, write_map_pngs, write_matrix_png, write_png,
+    write_png_with_legend, write_stokes_pngs, PictureNotes, PICTURES, UNPHYSICAL,
 };
 #[cfg(feature = "render")]
 pub use scene_file::{

@@ -233,6 +233,83 @@ fn write_texel_pngs(
     notes: PictureNotes,
     prefix: impl AsRef<Path>,
 ) -> Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    texel_pictures(
+        texels,
+        on,
+        projected,
+        w,
+        notes,
+        &|_| true,
+        &mut |name, legend, rgb| {
+            let mut file = prefix.as_ref().as_os_str().to_owned();
+            file.push(format!("_{name}.png"));
+            let path = PathBuf::from(file);
+            write_png_with_legend(&path, &legend, w, h, &rgb)?;
+            out.push(path);
+            Ok(())
+        },
+    )?;
+    Ok(out)
+}
+
+/// The names of the pictures of [`write_stokes_pngs`] (`{prefix}_{name}.png`), in order.
+pub const PICTURES: [&str; 6] = ["s0", "s1", "s2", "s3", "dop", "aop"];
+
+/// The pixels of one picture of [`write_stokes_pngs`] without its legend: `name` one of
+/// [`PICTURES`], the same colours as the file `{prefix}_{name}.png` holds above its
+/// legend. Errors: as [`write_stokes_pngs`], and an unknown name.
+pub fn stokes_picture(
+    stored: &[Vec<[f64; 4]>],
+    on: &[bool],
+    projected: Option<&[bool]>,
+    w: usize,
+    h: usize,
+    name: &str,
+) -> Result<Vec<[u8; 3]>> {
+    if !PICTURES.contains(&name) {
+        return Err(Error::invalid(
+            "picture",
+            name.to_string(),
+            format!("one of {}", PICTURES.join(", ")),
+        ));
+    }
+    let texels = StokesTexels::stored(stored, w.saturating_mul(h))?;
+    let notes = PictureNotes {
+        title: "",
+        frames: "",
+        panels: &[],
+    };
+    let mut picture = Vec::new();
+    texel_pictures(
+        texels,
+        on,
+        projected,
+        w,
+        notes,
+        &|n| n == name,
+        &mut |_, _, rgb| {
+            picture = rgb;
+            Ok(())
+        },
+    )?;
+    Ok(picture)
+}
+
+/// Receives one picture: its name, legend and pixels.
+type Sink<'s> = dyn FnMut(&str, Legend, Vec<[u8; 3]>) -> Result<()> + 's;
+
+/// The pictures of [`write_stokes_pngs`] whose names are `wanted`, each given to `sink`
+/// with its legend, after the budget check ([`check_stokes_output`]).
+fn texel_pictures(
+    texels: StokesTexels,
+    on: &[bool],
+    projected: Option<&[bool]>,
+    w: usize,
+    notes: PictureNotes,
+    wanted: &dyn Fn(&str) -> bool,
+    sink: &mut Sink,
+) -> Result<()> {
     let n = texels.len();
     crate::error::check_len("pixel mask", n, on.len())?;
     if let Some(p) = projected {
@@ -247,11 +324,10 @@ fn write_texel_pngs(
         on,
         notes,
     };
-    let mut out = Vec::new();
     let mut save = |name: &str, legend: Legend, pixel: &dyn Fn(usize) -> [u8; 3]| -> Result<()> {
-        let mut file = prefix.as_ref().as_os_str().to_owned();
-        file.push(format!("_{name}.png"));
-        let path = PathBuf::from(file);
+        if !wanted(name) {
+            return Ok(());
+        }
         let rgb: Vec<[u8; 3]> = (0..n)
             .map(|i| match on[i] {
                 false => [0; 3],
@@ -263,14 +339,19 @@ fn write_texel_pngs(
             0 => legend,
             k => legend.flag(UNPHYSICAL, projected_note(k)),
         };
-        write_png_with_legend(&path, &legend, w, h, &rgb)?;
-        out.push(path);
-        Ok(())
+        sink(name, legend, rgb)
     };
-    pictures.intensity(&mut save)?;
-    pictures.components(&mut save)?;
-    pictures.polarization(&mut save)?;
-    Ok(out)
+    // Each family's scales are computed only when one of its pictures is wanted.
+    if wanted("s0") {
+        pictures.intensity(&mut save)?;
+    }
+    if ["s1", "s2", "s3"].iter().any(|&n| wanted(n)) {
+        pictures.components(&mut save)?;
+    }
+    if ["dop", "aop"].iter().any(|&n| wanted(n)) {
+        pictures.polarization(&mut save)?;
+    }
+    Ok(())
 }
 
 /// Writes one picture: its name, legend and colour per pixel.

@@ -13,6 +13,7 @@
 //! | [`TransferSettings`], [`Planning`] | what a precomputation is asked to do, how much the plan may drop | |
 //! | [`Plan`], [`Reason`] | what a scene needs: Stokes components, visibility, storage, high orders | PSH (41), (52)-(56) |
 //! | [`stages::precompute_planned`], [`VertexTransfer`] | visibility, PSH (54)-(56), (35)-(37), (41) per vertex | PSH Sec. 7 |
+//! | [`stages::TransferTurns`] | the transfer at any turn of the environment about the vertical, interpolated exactly from `2 l_low + 1` turns | PSH (35)-(36) |
 //! | [`stages`], [`StokesImage`] | the frame in stages (precompute, primary hits, direct light, runtime frame) in the camera's frames; polarizer images | PSH (14), (30) |
 //! | [`Reference`] | quasi-Monte Carlo reference renderer in explicit frames | PSH (39) |
 //! | [`builtin_scene`] | the built-in scenes | |
@@ -33,6 +34,7 @@ pub(crate) mod settings;
 pub(crate) mod sky;
 pub mod stages;
 pub(crate) mod transfer;
+pub(crate) mod turns;
 
 pub use builtin::{builtin_scene, builtin_unpolarized_scene};
 pub use light::DirectionalLight;

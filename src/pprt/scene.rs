@@ -4,7 +4,7 @@
 use super::light::DirectionalLight;
 use super::mesh::Mesh;
 use super::mirrored::MirroredBelow;
-use super::sky::{RayleighSky, Sun};
+use super::sky::{vertical_turn, RayleighSky, Sun};
 use crate::error::{Error, Result};
 use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
 use crate::map::StokesMap;
@@ -184,6 +184,48 @@ impl Camera {
         })
     }
 
+    /// The largest elevation of an orbit's camera above or below the pivot, radians
+    /// (89 degrees: the world's up `+z` stays off the view axis).
+    pub const MAX_ORBIT_ELEVATION: f64 = 89.0 * std::f64::consts::PI / 180.0;
+
+    /// This camera moved on a sphere about `pivot` and looking at it, `width x height`
+    /// pixels, same field of view: the azimuth of `position - pivot` about the world's
+    /// vertical `+z` plus `azimuth`, its elevation plus `elevation` (radians), its
+    /// distance divided by `zoom` ([`Self::look_at`]). Errors: a non-finite angle, a zoom
+    /// outside `(0, 1000]`, a resulting elevation beyond [`Self::MAX_ORBIT_ELEVATION`], a
+    /// camera at the pivot, and as [`Self::look_at`].
+    pub fn orbited(
+        &self,
+        pivot: [f64; 3],
+        azimuth: f64,
+        elevation: f64,
+        zoom: f64,
+        width: usize,
+        height: usize,
+    ) -> Result<Self> {
+        let offset = Vector3::from(self.position) - Vector3::from(pivot);
+        let r = offset.norm();
+        let el = (offset.z / r).clamp(-1.0, 1.0).asin() + elevation;
+        let az = offset.y.atan2(offset.x) + azimuth;
+        let inside = el.abs() <= Self::MAX_ORBIT_ELEVATION && zoom > 0.0 && zoom <= 1000.0;
+        if !(azimuth.is_finite() && inside) || r == 0.0 {
+            return Err(Error::invalid(
+                "camera orbit",
+                format!(
+                    "azimuth {azimuth}, elevation {elevation} (to {el}), zoom {zoom}, distance {r}"
+                ),
+                "finite angles, an elevation within 89 degrees of the horizontal, a zoom in (0, 1000], a camera off the pivot",
+            ));
+        }
+        let d = r / zoom;
+        let position = [
+            pivot[0] + d * el.cos() * az.cos(),
+            pivot[1] + d * el.cos() * az.sin(),
+            pivot[2] + d * el.sin(),
+        ];
+        Self::look_at(position, pivot, self.fov_y, width, height)
+    }
+
     /// This camera turned by `angle` (radians) about its forward axis, right-handed about
     /// it (image-right turns towards image-down, so the scene turns the other way in the
     /// image): the frame `R_z(angle) F` of PSH (14). Error: a non-finite angle.
@@ -222,6 +264,7 @@ pub struct SceneObject {
 }
 
 /// One triangle for the BVH.
+#[derive(Clone)]
 struct Tri {
     object: usize,
     index: usize,
@@ -304,6 +347,21 @@ impl EnvironmentSource {
         }
     }
 
+    /// The source turned by `angle` (radians) about the world's vertical `+z` (PSH (8)):
+    /// the sky's sun ([`RayleighSky::turned`]), the coefficients rotated (PSH (35)), the
+    /// map's `to_world` followed by the turn. Error: a non-finite angle.
+    pub fn turned(&self, angle: f64) -> Result<Self> {
+        let turn = vertical_turn(angle)?;
+        Ok(match self {
+            Self::Sky(sky) => Self::Sky(sky.clone().turned(angle)?),
+            Self::Coefficients(v) => Self::Coefficients(v.rotated(&turn)?),
+            Self::Map { map, to_world } => Self::Map {
+                map: map.clone(),
+                to_world: turn * to_world,
+            },
+        })
+    }
+
     /// The light arriving from the unit direction `w` (towards its source), per channel:
     /// the sky evaluated exactly, coefficients at their own band limit by PSH (30) with
     /// `evaluator` (of band limit at least [`Self::lmax`]), a map's texel holding `w`.
@@ -364,6 +422,7 @@ impl EnvironmentSource {
 /// # Ok(())
 /// # }
 /// ```
+#[derive(Clone)]
 pub struct Scene {
     objects: Vec<SceneObject>,
     materials: Vec<SceneMaterial>,
@@ -509,6 +568,17 @@ impl Scene {
         self.window
     }
 
+    /// The scene with its environment turned by `angle` (radians) about the world's
+    /// vertical `+z`: the coefficients rotated (PSH (35)), the source
+    /// [`EnvironmentSource::turned`] likewise; the window stays applied (it commutes with
+    /// rotations, acting on whole bands). A transfer precomputed before is of the old
+    /// environment ([`super::stages::retransfer`] redoes it). Error: a non-finite angle.
+    pub fn with_environment_turned(mut self, angle: f64) -> Result<Self> {
+        self.environment = self.environment.rotated(&vertical_turn(angle)?)?;
+        self.source = self.source.turned(angle)?;
+        Ok(self)
+    }
+
     /// The scene under its analytic sky with the sun carried as `sun` (the environment
     /// projected anew at its band limit, then windowed as before). Error: a source
     /// that is not the analytic sky.
@@ -542,6 +612,24 @@ impl Scene {
     /// The diagonal of the bounding box of every vertex (the scale of ray offsets).
     pub fn bounding_scale(&self) -> f64 {
         self.scale
+    }
+
+    /// The point a camera orbits ([`Camera::orbited`]): on the camera's view axis, nearest
+    /// to the centre of the objects' bounding box (the camera's position itself when that
+    /// centre is behind it).
+    pub fn orbit_pivot(&self) -> [f64; 3] {
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for p in self.objects.iter().flat_map(|o| o.mesh.positions()) {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        let centre = Vector3::from(std::array::from_fn(|k| 0.5 * (lo[k] + hi[k])));
+        let eye = Vector3::from(self.camera.position);
+        let forward = self.camera.frame.z();
+        let along = (centre - eye).dot(&forward).max(0.0);
+        (eye + along * forward).into()
     }
 
     /// The origin of a shadow ray leaving the surface point `p` of unit normal `n`: `p`

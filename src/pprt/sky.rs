@@ -18,7 +18,7 @@ use super::light::DirectionalLight;
 use crate::error::{Error, Result};
 use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
 use crate::polarized::{Codomain, PshTransform, PshVector};
-use nalgebra::Vector3;
+use nalgebra::{Rotation3, Vector3};
 use std::f64::consts::PI;
 
 /// How the sky carries its sun.
@@ -74,6 +74,15 @@ impl RayleighSky {
             sun_model: Sun::Lobe,
             polarized: true,
         })
+    }
+
+    /// The sky turned by `angle` (radians) about the world's vertical `+z`: the sun's
+    /// azimuth plus `angle`, its elevation kept (the sky's field depends on the sun's
+    /// direction and the vertical only, so this is the sky rotated, PSH (8)). Error: a
+    /// non-finite angle.
+    pub fn turned(mut self, angle: f64) -> Result<Self> {
+        self.sun = vertical_turn(angle)? * self.sun;
+        Ok(self)
     }
 
     /// The same sky without its polarization: the intensity `s0` alone, the sun as it was.
@@ -163,6 +172,19 @@ impl RayleighSky {
         let refs: Vec<&[[f64; 4]]> = channels.iter().map(Vec::as_slice).collect();
         t.project_channels(&refs, Codomain::Full)?.truncated(lmax)
     }
+}
+
+/// The rotation by `angle` (radians) about the world's vertical `+z`. Error: a non-finite
+/// angle.
+pub(crate) fn vertical_turn(angle: f64) -> Result<Rotation3<f64>> {
+    if !angle.is_finite() {
+        return Err(Error::invalid(
+            "environment turn",
+            format!("{angle} radians"),
+            "a finite angle",
+        ));
+    }
+    Ok(Rotation3::from_axis_angle(&Vector3::z_axis(), angle))
 }
 
 #[cfg(test)]

@@ -13,7 +13,7 @@
 use super::plan::Plan;
 use super::scene::Scene;
 use super::settings::{Planning, TransferSettings, Visibility};
-use crate::error::{Error, Result};
+use crate::error::{check_len, Error, Result};
 use crate::geometry::fibonacci_directions;
 use crate::geometry::frame::Frame;
 use crate::polarized::{PshVector, TripleTable};
@@ -105,24 +105,68 @@ pub fn precompute_planned(
     plan: &Plan,
     progress: &dyn Progress,
 ) -> Result<Vec<Vec<VertexTransfer>>> {
-    crate::error::check_len(
-        "planned materials",
-        scene.materials().len(),
-        plan.materials.len(),
-    )?;
     let settings = plan.settings;
-    let (l, codomain) = (settings.l_low, plan.codomain);
-    let lv = 2 * l;
     let rays = VisibilityRays::new(
         if plan.visibility == Visibility::Rays {
             settings.rays
         } else {
             0
         },
-        lv,
+        2 * settings.l_low,
     )?;
+    transfer_with(scene, plan, progress, &|_, _, p, n| {
+        ray_visibility(scene, p, n, &rays)
+    })
+}
+
+/// The transfer of `scene` as `plan` says with the visibility of `kept` (a transfer of
+/// the same scene and plan: the vertices' visibility vectors are taken, no ray is cast):
+/// after a change of the environment alone ([`Scene::with_environment_turned`]), the
+/// products PSH (54)-(56), the turn into the shading frames PSH (35)-(37) and the pBRDF
+/// PSH (41) again, as [`precompute_planned`] computes them. Errors: as
+/// [`precompute_planned`], and `kept` not of this scene and plan (per vertex, a
+/// visibility vector where the plan casts rays).
+pub fn retransfer(
+    scene: &Scene,
+    plan: &Plan,
+    kept: &[Vec<VertexTransfer>],
+    progress: &dyn Progress,
+) -> Result<Vec<Vec<VertexTransfer>>> {
+    check_len("kept transfer objects", scene.objects().len(), kept.len())?;
+    for (o, t) in scene.objects().iter().zip(kept) {
+        check_len("kept vertex transfers", o.mesh.positions().len(), t.len())?;
+    }
+    transfer_with(scene, plan, progress, &|o, k, _, _| {
+        kept[o][k].visibility.clone().ok_or_else(|| {
+            Error::invalid(
+                "kept transfer",
+                format!("object {o}, vertex {k}: no visibility"),
+                "a transfer precomputed with visibility rays under the same plan",
+            )
+        })
+    })
+}
+
+/// The visibility of vertex `k` of object `o` at position `p`, normal `n`.
+type VisibilityOf<'a> = dyn Fn(usize, usize, [f64; 3], [f64; 3]) -> Result<PshVector> + Sync + 'a;
+
+/// [`precompute_planned`] with the visibility of each vertex from `visibility` (asked only
+/// where the plan casts rays).
+fn transfer_with(
+    scene: &Scene,
+    plan: &Plan,
+    progress: &dyn Progress,
+    visibility: &VisibilityOf,
+) -> Result<Vec<Vec<VertexTransfer>>> {
+    check_len(
+        "planned materials",
+        scene.materials().len(),
+        plan.materials.len(),
+    )?;
+    let settings = plan.settings;
+    let (l, codomain) = (settings.l_low, plan.codomain);
     let table = if plan.visibility == Visibility::Rays {
-        Some(TripleTable::for_codomain(lv, l, codomain)?)
+        Some(TripleTable::for_codomain(2 * l, l, codomain)?)
     } else {
         None
     };
@@ -136,19 +180,22 @@ pub fn precompute_planned(
     let transfer = scene
         .objects()
         .iter()
-        .map(|o| {
-            let ops = &plan.materials[o.material].operators;
-            o.mesh
+        .enumerate()
+        .map(|(o, object)| {
+            let ops = &plan.materials[object.material].operators;
+            object
+                .mesh
                 .positions()
                 .par_iter()
-                .zip(o.mesh.normals())
-                .map(|(p, n)| {
+                .zip(object.mesh.normals())
+                .enumerate()
+                .map(|(k, (p, n))| {
                     progress.check_cancelled("the precomputation")?;
                     let rotation = Frame::from_z(*n)?.rotation();
                     let to_local = rotation.inverse();
                     let (visibility, local) = match (&table, &plan.horizon) {
                         (Some(t), _) => {
-                            let v = ray_visibility(scene, *p, *n, &rays)?;
+                            let v = visibility(o, k, *p, *n)?;
                             let local = t.shadow(&v, &env)?.rotated(&to_local)?;
                             (Some(v), local)
                         }

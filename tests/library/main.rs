@@ -1,7 +1,7 @@
 //! The library's public surface, as a user calls it: the renderer, the planner, the
 //! reference, the ISD, polygonal lights, the Mitsuba export, the checks of `psh verify`,
-//! and the shared data (skipped without it). One test binary (`cargo test --release
-//! --test library`); each file a module.
+//! the viewer (`psh view`'s frames) and the shared data (skipped without it). One test
+//! binary (`cargo test --release --test library`); each file a module.
 
 mod isd;
 mod measured;
@@ -12,3 +12,4 @@ mod pprt;
 mod real_data;
 mod reference;
 mod verify;
+mod view;

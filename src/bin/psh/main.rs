@@ -9,6 +9,7 @@
 //! | `pbrdf info`, `pbrdf project` (measured tables) | [`pbrdf`] |
 //! | `filter-report`, `lights-demo`, `polygon-lights-demo`, `isd-report`, `figures` | [`reports`] |
 //! | `verify` | [`verify`] |
+//! | `view` (feature `view`) | [`view`] |
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -37,6 +38,8 @@ mod reports;
 mod scene_jobs;
 mod terminal;
 mod verify;
+#[cfg(feature = "view")]
+mod view;
 
 #[derive(Parser)]
 #[command(
@@ -120,6 +123,11 @@ enum Command {
     /// EXR, docs/mitsuba.md) into a directory; prints the files and the ways Mitsuba's
     /// scene differs from psh's (JSON).
     ExportMitsuba(scene_jobs::ExportMitsubaArgs),
+    /// The scene interactive in a browser (docs/view.md): precomputes it, prints a URL on
+    /// 127.0.0.1 and serves a page that orbits the camera, turns the environment and a
+    /// polarizer, shows s0..s3, DoP, AoLP, and saves the view as `psh render` would.
+    #[cfg(feature = "view")]
+    View(view::ViewArgs),
 }
 
 /// Every argument that takes a value accepts a negative number as one (`--tolerance -0.5`
@@ -213,6 +221,8 @@ fn main() -> ExitCode {
         Some(Command::PolygonLightsDemo(a)) => reports::polygon_lights_demo(&a),
         Some(Command::IsdReport(a)) => reports::isd_report(&a),
         Some(Command::Figures(a)) => reports::figures(&a),
+        #[cfg(feature = "view")]
+        Some(Command::View(a)) => view::run(&a),
     };
     match result {
         Ok(Outcome::Json(v)) => {

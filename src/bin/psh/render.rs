@@ -6,8 +6,8 @@ use crate::terminal::TerminalProgress;
 use crate::Outcome;
 use clap::Args;
 use psh::apps::{
-    AblationReport, ImageSize, JobReport, ReferenceReport, RenderJob, RenderReport, Renderer,
-    Shadows, ValidRange,
+    AblationReport, ImageSize, JobReport, Orbit, ReferenceReport, RenderJob, RenderReport,
+    Renderer, Shadows, ValidRange,
 };
 use psh::pprt::{high_orders_from_number, ObjectUnphysical, Planning, UnphysicalPixels};
 use std::path::{Path, PathBuf};
@@ -80,6 +80,15 @@ pub struct RenderArgs {
     /// box filter, as Mitsuba 3's), each with the --reference directions (G^2 times the work).
     #[arg(long, requires = "reference", default_value_t = 1)]
     pixel_grid: usize,
+    /// Move the camera about the scene: AZ,EL,ZOOM adds AZ degrees of azimuth about the
+    /// vertical and EL of elevation, and divides its distance by ZOOM (what `psh view`'s
+    /// page shows as "orbit").
+    #[arg(long, allow_hyphen_values = true)]
+    orbit: Option<Orbit>,
+    /// Turn the environment by this many degrees about the vertical (PSH (35); the
+    /// analytic sky's sun turns with it).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = parse_degrees)]
+    turn_environment: f64,
 }
 
 impl RenderArgs {
@@ -87,6 +96,8 @@ impl RenderArgs {
     fn job(&self) -> RenderJob {
         let mut job = RenderJob::default();
         job.scene = self.scene.setup(self.size);
+        job.scene.orbit = self.orbit;
+        job.scene.environment_turn_deg = self.turn_environment;
         job.l_low = self.l_low;
         job.l_high = self.l_high.map(high_orders_from_number);
         job.rays = self.rays;
