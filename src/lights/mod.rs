@@ -13,6 +13,8 @@ pub(crate) mod polygon;
 pub(crate) mod source;
 pub(crate) mod spherical;
 
+// The polygon-lights demo's per-point errors (`apps`).
+#[cfg(feature = "apps")]
 pub(crate) use demo_scene::grid_errors_with;
 pub use demo_scene::{exact_coefficients, grid_errors, light_scene, LightScene};
 pub use grid::{

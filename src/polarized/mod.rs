@@ -13,6 +13,8 @@
 //! outside it are stored as zeros. Storage follows the polarsh `.npz` layout
 //! `coeff[channel][l*l + l + m][p]`, `p` running over the codomain's components.
 
+// The angular-domain reference PSH (39) that `psh verify` checks the products against.
+#[cfg(feature = "verify")]
 mod angular;
 mod argument;
 mod codomain;
@@ -31,6 +33,7 @@ mod transform;
 mod triple;
 mod vector;
 
+#[cfg(feature = "verify")]
 pub(crate) use angular::apply_angular;
 pub use argument::FieldArgument;
 pub use codomain::{in_index_set, Codomain};

@@ -10,10 +10,13 @@
 //! midpoints, largest error first, until the error estimates (the change from a
 //! triangle's rule to the sum over its four parts) sum below the tolerance.
 
-use super::cubature::{add_gradients, add_values, fan, rule, Anchored};
+#[cfg(feature = "verify")]
+use super::cubature::add_gradients;
+use super::cubature::{add_values, fan, rule, Anchored};
 use super::PolygonalLight;
 use crate::error::{Error, Result};
 use crate::sh::evaluation::harmonics::ShEvaluator;
+#[cfg(feature = "verify")]
 use crate::sh::evaluation::solid::SolidHarmonics;
 use crate::sh::num_coeffs;
 use crate::sh::transform::grid::GaussLegendre;
@@ -155,7 +158,8 @@ pub fn coefficients(
 
 /// `grad_x L_lm(x)`, `l <= lmax` (no horizon: the domain must not depend on `x`), by
 /// adaptive quadrature of `-grad_d [Y_lm(d/|d|) |N . d| / |d|^3]` to the relative
-/// tolerance `tol`.
+/// tolerance `tol` (`psh verify`'s reference).
+#[cfg(feature = "verify")]
 pub fn gradients(
     light: &PolygonalLight,
     x: [f64; 3],
