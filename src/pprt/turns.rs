@@ -12,7 +12,7 @@
 //! `f(a) = sum_k f(a_k) D_N(a - a_k) / N` with the Dirichlet kernel
 //! `D_N(x) = sin(N x / 2) / sin(x / 2)` (`D_N(0) = N`): trigonometric interpolation at an
 //! odd number of equispaced points, exact for degree `<= (N - 1) / 2` (Zygmund,
-//! *Trigonometric Series*, Ch. X).
+//! *Trigonometric Series*, Ch. X; `proofs/environment-turns.md`).
 
 use super::plan::Plan;
 use super::scene::Scene;
