@@ -320,32 +320,7 @@ impl PshVector {
     pub fn combined(&self, a: f64, other: &PshVector, b: f64) -> Result<PshVector> {
         crate::error::finite("coefficient a", a)?;
         crate::error::finite("coefficient b", b)?;
-        let differs = |what: &str, x: String, y: String| {
-            Error::invalid(
-                "vectors combined",
-                format!("{what} {x} and {y}"),
-                format!("the same {what}"),
-            )
-        };
-        if self.lmax != other.lmax {
-            return Err(differs(
-                "band limit",
-                self.lmax.to_string(),
-                other.lmax.to_string(),
-            ));
-        }
-        if self.codomain != other.codomain {
-            let n = |c: Codomain| c.name().to_string();
-            return Err(differs("codomain", n(self.codomain), n(other.codomain)));
-        }
-        if self.channels != other.channels {
-            let c = |v: &PshVector| v.channels.to_string();
-            return Err(differs("channel count", c(self), c(other)));
-        }
-        if self.argument != other.argument {
-            let n = |v: &PshVector| v.argument.name().to_string();
-            return Err(differs("argument convention", n(self), n(other)));
-        }
+        self.check_alike(other)?;
         let data: Vec<f64> = self
             .data
             .iter()
@@ -353,10 +328,58 @@ impl PshVector {
             .map(|(x, y)| a * x + b * y)
             .collect();
         finite_all("combined coefficient", &data)?;
-        Ok(PshVector {
+        Ok(self.with_data(data))
+    }
+
+    /// `self + b other` in place, as [`Self::combined`] with `a = 1` (the same values)
+    /// without a new vector. Errors: as [`Self::combined`]; on error `self` may hold
+    /// the partial sum.
+    pub fn accumulate(&mut self, b: f64, other: &PshVector) -> Result<()> {
+        crate::error::finite("coefficient b", b)?;
+        self.check_alike(other)?;
+        for (x, y) in self.data.iter_mut().zip(&other.data) {
+            *x += b * y;
+        }
+        finite_all("combined coefficient", &self.data)
+    }
+
+    /// Error unless `other` has the same band limit, codomain, channel count and
+    /// argument convention, naming the one that differs.
+    fn check_alike(&self, other: &PshVector) -> Result<()> {
+        let differs = |what: &str, x: String, y: String| {
+            Err(Error::invalid(
+                "vectors combined",
+                format!("{what} {x} and {y}"),
+                format!("the same {what}"),
+            ))
+        };
+        if self.lmax != other.lmax {
+            return differs("band limit", self.lmax.to_string(), other.lmax.to_string());
+        }
+        if self.codomain != other.codomain {
+            let n = |c: Codomain| c.name().to_string();
+            return differs("codomain", n(self.codomain), n(other.codomain));
+        }
+        if self.channels != other.channels {
+            let c = |v: &PshVector| v.channels.to_string();
+            return differs("channel count", c(self), c(other));
+        }
+        if self.argument != other.argument {
+            let n = |v: &PshVector| v.argument.name().to_string();
+            return differs("argument convention", n(self), n(other));
+        }
+        Ok(())
+    }
+
+    /// This vector's labels with `data` (of its layout) as the coefficients.
+    fn with_data(&self, data: Vec<f64>) -> PshVector {
+        PshVector {
+            lmax: self.lmax,
+            codomain: self.codomain,
+            channels: self.channels,
+            argument: self.argument,
             data,
-            ..self.clone()
-        })
+        }
     }
 
     /// `s self`. Error: `s` or a result not finite.
@@ -364,10 +387,7 @@ impl PshVector {
         crate::error::finite("scale", s)?;
         let data: Vec<f64> = self.data.iter().map(|x| s * x).collect();
         finite_all("scaled coefficient", &data)?;
-        Ok(PshVector {
-            data,
-            ..self.clone()
-        })
+        Ok(self.with_data(data))
     }
 
     pub(super) fn offset(&self, channel: usize, lm: usize) -> usize {

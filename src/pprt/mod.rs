@@ -34,6 +34,7 @@ pub(crate) mod settings;
 pub(crate) mod sky;
 pub mod stages;
 pub(crate) mod transfer;
+pub(crate) mod traversal;
 pub(crate) mod turns;
 
 pub use builtin::{builtin_scene, builtin_unpolarized_scene};

@@ -5,6 +5,7 @@ use super::light::DirectionalLight;
 use super::mesh::Mesh;
 use super::mirrored::MirroredBelow;
 use super::sky::{vertical_turn, RayleighSky, Sun};
+use super::traversal::{first_hit, Wanted};
 use crate::error::{Error, Result};
 use crate::geometry::frame::{FrameField, ThetaPhiFrameField};
 use crate::map::StokesMap;
@@ -674,24 +675,27 @@ impl Scene {
 
     /// The nearest hit along the ray (either side of a triangle), beyond `t_min`.
     pub fn intersect(&self, origin: [f64; 3], direction: [f64; 3], t_min: f64) -> Option<Hit> {
-        let ray = Ray::new(Point3::from(origin), Vector3::from(direction));
-        let mut best: Option<Hit> = None;
-        for tri in self.bvh.traverse_iterator(&ray, &self.tris) {
-            if let Some(h) = self.hit_triangle(&ray, tri, t_min) {
-                if best.is_none_or(|b| h.distance < b.distance) {
-                    best = Some(h);
-                }
-            }
-        }
-        best
+        self.query(origin, direction, t_min, Wanted::Nearest)
     }
 
     /// Whether anything is hit along the ray beyond `t_min`.
     pub fn occluded(&self, origin: [f64; 3], direction: [f64; 3], t_min: f64) -> bool {
+        self.query(origin, direction, t_min, Wanted::Any).is_some()
+    }
+
+    /// The hit `wanted` along the ray through the BVH ([`first_hit`]).
+    fn query(
+        &self,
+        origin: [f64; 3],
+        direction: [f64; 3],
+        t_min: f64,
+        wanted: Wanted,
+    ) -> Option<Hit> {
         let ray = Ray::new(Point3::from(origin), Vector3::from(direction));
-        self.bvh
-            .traverse_iterator(&ray, &self.tris)
-            .any(|tri| self.hit_triangle(&ray, tri, t_min).is_some())
+        first_hit(&self.bvh, &ray, t_min, wanted, |k| {
+            self.hit_triangle(&ray, &self.tris[k], t_min)
+                .map(|h| (h.distance, h))
+        })
     }
 
     fn hit_triangle(&self, ray: &Ray<f64, 3>, tri: &Tri, t_min: f64) -> Option<Hit> {
@@ -719,6 +723,68 @@ impl Scene {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The BVH's nearest hit ([`super::super::traversal::first_hit`], which skips boxes)
+    /// equals the nearest of every triangle tested one by one, bit for bit in distance,
+    /// and `occluded` says whether any is hit: from the camera, from above the ground,
+    /// from inside a sphere, from a point on the ground plane; directions spread over the
+    /// sphere, along the axes, and in the ground's plane (the flat boxes' edge case).
+    #[test]
+    fn bvh_queries_equal_every_triangle_tested() {
+        let scene = crate::pprt::builtin::builtin_scene(2, 4, 4).unwrap();
+        let origins = [
+            scene.camera().position,
+            [0.4, -0.2, 1.9],
+            [-0.8, 0.0, 0.7],
+            [0.3, 0.2, 0.0],
+            [1.0 / 3.0, -2.0, 0.16],
+        ];
+        let n = 500;
+        let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+        let mut directions: Vec<[f64; 3]> = (0..n)
+            .map(|k| {
+                let z = 1.0 - (2 * k + 1) as f64 / n as f64;
+                let r = (1.0 - z * z).sqrt();
+                let a = golden * k as f64;
+                [r * a.cos(), r * a.sin(), z]
+            })
+            .collect();
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        directions.extend([
+            [1.0, 0.0, 0.0],
+            [-1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, -1.0],
+            [h, h, 0.0],
+            [-h, 0.0, -h],
+        ]);
+        let (mut hits, mut misses) = (0, 0);
+        for o in origins {
+            for &d in &directions {
+                for t_min in [0.0, 0.5] {
+                    let ray = Ray::new(Point3::from(o), Vector3::from(d));
+                    let every: Vec<Hit> = scene
+                        .tris
+                        .iter()
+                        .filter_map(|t| scene.hit_triangle(&ray, t, t_min))
+                        .collect();
+                    let nearest = every.iter().map(|h| h.distance).reduce(f64::min);
+                    let got = scene.intersect(o, d, t_min);
+                    assert_eq!(got.map(|h| h.distance), nearest, "{o:?} {d:?} {t_min}");
+                    assert_eq!(scene.occluded(o, d, t_min), !every.is_empty());
+                    if got.is_some() {
+                        hits += 1;
+                    } else {
+                        misses += 1;
+                    }
+                }
+            }
+        }
+        // Both kinds of answer were tested.
+        assert!(hits > 1000 && misses > 1000, "{hits} hits, {misses} misses");
+    }
 
     /// [`Scene::TRIANGLE_BYTES`] covers what the ray queries keep per triangle, with room
     /// to spare for the build.

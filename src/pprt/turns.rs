@@ -114,7 +114,7 @@ impl TransferTurns {
                     .map(|(v, t)| {
                         let mut radiance = self.samples[0][o][v].scaled(weights[0])?;
                         for (k, w) in weights.iter().enumerate().skip(1) {
-                            radiance = radiance.combined(1.0, &self.samples[k][o][v], *w)?;
+                            radiance.accumulate(*w, &self.samples[k][o][v])?;
                         }
                         Ok(VertexTransfer {
                             rotation: t.rotation,
