@@ -62,11 +62,12 @@ fn psh_rotate(c: &mut Criterion) {
 }
 
 /// Point evaluation PSH (30) of an RGB, four-component vector at 1,000 directions with one
-/// `PshEvaluator` (the renderer's per-vertex step), l <= 4 and l <= 9.
+/// `PshEvaluator` (the renderer's per-vertex step), l <= 4, 9 and 19 (the Python
+/// quickstart's perspective view), one direction at a time and in a batch.
 fn psh_evaluate(c: &mut Criterion) {
     let dirs = psh::testing::random_directions(1000, 5);
     let mut grp = c.benchmark_group("psh_evaluate");
-    for lmax in [4, 9] {
+    for lmax in [4, 9, 19] {
         let v = random_psh(lmax, Codomain::Full, 3, 6).unwrap();
         let mut eval = PshEvaluator::new(lmax).unwrap();
         grp.bench_function(format!("1000_dirs/{lmax}"), |b| {
@@ -78,6 +79,15 @@ fn psh_evaluate(c: &mut Criterion) {
                             .to_array()[1]
                     })
                     .sum::<f64>()
+            })
+        });
+        // The same directions at once (`PshEvaluator::evaluate_batch`: the sums over four
+        // directions in lanes), components in the theta-phi frames.
+        let mut out = vec![[0.0; 4]; 3 * dirs.len()];
+        grp.bench_function(format!("batch_1000_dirs/{lmax}"), |b| {
+            b.iter(|| {
+                eval.evaluate_batch(black_box(&v), &dirs, &mut out).unwrap();
+                out[0][1]
             })
         });
     }

@@ -7,8 +7,10 @@ use crate::errors::{bad, IntoPy};
 use crate::rotation::rotation_of;
 use numpy::prelude::*;
 use numpy::PyArrayDyn;
+use psh::geometry::FrameField as _;
 use psh::geometry::{CubeMapFrameField, Frame, PerspectiveFrameField, ThetaPhiFrameField};
 use psh::polarized::{Codomain, FieldArgument, PshEvaluator};
+use psh::stokes::FrameChange;
 use pyo3::prelude::*;
 use rayon::prelude::*;
 
@@ -345,7 +347,9 @@ impl PshVector {
 }
 
 /// The Stokes components of every channel of `v` at `w` in the frames of `field`,
-/// `[channel][direction][component]` flattened.
+/// `[channel][direction][component]` flattened: PSH (30) over a chunk of directions at
+/// once ([`PshEvaluator::evaluate_batch`], in the theta-phi frames PSH (28)), then one
+/// frame change PSH (14) per direction for all channels.
 pub fn evaluate_at(
     py: Python<'_>,
     v: &psh::polarized::PshVector,
@@ -354,29 +358,28 @@ pub fn evaluate_at(
 ) -> PyResult<Vec<f64>> {
     let nch = v.channels();
     checked_len("Stokes values", &[nch, w.len(), 4])?;
-    let per_dir: Vec<Vec<[f64; 4]>> = py
-        .detach(|| {
-            w.par_chunks(CHUNK)
-                .map(|d| {
-                    let mut eval = PshEvaluator::new(v.lmax())?;
-                    d.iter()
-                        .map(|&w| {
-                            eval.evaluate_all(v, w)?
-                                .iter()
-                                .map(|s| Ok(s.components_in_field(&field)?.to_array()))
-                                .collect::<psh::Result<Vec<_>>>()
-                        })
-                        .collect::<psh::Result<Vec<_>>>()
-                })
-                .collect::<psh::Result<Vec<_>>>()
-        })
-        .py_err()?
-        .into_iter()
-        .flatten()
-        .collect();
+    let mut per_dir = vec![[0.0; 4]; w.len() * nch];
+    py.detach(|| {
+        w.par_chunks(CHUNK)
+            .zip(per_dir.par_chunks_mut(CHUNK * nch))
+            .try_for_each(|(d, s)| {
+                let mut eval = PshEvaluator::new(v.lmax())?;
+                eval.evaluate_batch(v, d, s)?;
+                if matches!(field, Field::ThetaPhi) {
+                    return Ok(());
+                }
+                for (&w, s) in d.iter().zip(s.chunks_exact_mut(nch)) {
+                    let from = ThetaPhiFrameField::new().frame(w)?;
+                    let change = FrameChange::between(&from, &field.frame(w)?)?;
+                    s.iter_mut().for_each(|x| *x = change.components(*x));
+                }
+                psh::Result::Ok(())
+            })
+    })
+    .py_err()?;
     let mut out = Vec::with_capacity(nch * w.len() * 4);
     for c in 0..nch {
-        out.extend(per_dir.iter().flat_map(|s| s[c]));
+        out.extend(per_dir.chunks_exact(nch).flat_map(|s| s[c]));
     }
     Ok(out)
 }

@@ -132,7 +132,7 @@ mod tests {
 
     /// Every dispatched kernel gives the bits of its baseline body: the batch SH (the
     /// Cartesian kernel, and the polar lanes above its band limit, with the exponent scaling
-    /// near the poles), the transforms' sweeps, the PSH evaluator's sums, the Wigner blocks (Risbo's steps and the complex rows) and the PSH
+    /// near the poles), the transforms' sweeps, the PSH evaluator's sums (one direction and batches), the Wigner blocks (Risbo's steps and the complex rows) and the PSH
     /// rotation's products, on random input and at the poles. A version that fused its
     /// multiply-adds or summed in another order would differ in the last bits.
     #[test]
@@ -226,6 +226,10 @@ mod tests {
                 eval.evaluate_into(&v, w, &mut out).unwrap();
                 all.extend(out.iter().flatten().copied());
             }
+            // And the batch's sums over four directions in lanes (a partial block too).
+            let mut batch = vec![[0.0; 4]; 3 * dirs.len()];
+            eval.evaluate_batch(&v, &dirs, &mut batch).unwrap();
+            all.extend(batch.iter().flatten().copied());
             all
         });
         assert!(

@@ -113,6 +113,68 @@ impl SpinEvaluator {
     }
 }
 
+/// Buffers of [`SpinEvaluator::lambda_lanes`], kept between calls.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct LanesScratch {
+    column: Vec<[f64; 4]>,
+    diagonal: Vec<f64>,
+}
+
+impl SpinEvaluator {
+    /// `Lambda_lm(theta_k)` at four polar angles (in `[0, pi]`, unchecked), into
+    /// `out[lm_index(l, m)][k]` (zero where `l < |s|`): what [`Self::for_each_order`]
+    /// gives one angle at a time (southern angles mirrored, the order `m = -s` by the
+    /// difference form), with the recursion run for the four in lanes.
+    pub(crate) fn lambda_lanes(
+        &self,
+        theta: [f64; 4],
+        scratch: &mut LanesScratch,
+        out: &mut [[f64; 4]],
+    ) {
+        let spin = self.spin();
+        let lmax = self.lmax();
+        let south = theta.map(|t| t > std::f64::consts::FRAC_PI_2);
+        let half: [HalfAngle; 4] = std::array::from_fn(|k| {
+            let north = HalfAngle::from_theta(theta[k]);
+            if south[k] {
+                north.mirrored()
+            } else {
+                north
+            }
+        });
+        // A southern angle's order m is the mirrored angle's -m times (-1)^{l+s}.
+        let place = |k: usize, m: i64, l: usize| {
+            let flip = south[k] && (l as i64 + spin) % 2 != 0;
+            let at = lm_index(l, if south[k] { -m } else { m });
+            (at, if flip { -1.0 } else { 1.0 })
+        };
+        out.fill([0.0; 4]);
+        let LanesScratch { column, diagonal } = scratch;
+        self.columns.for_each_column_lanes(
+            &half,
+            0..self.columns.list.len(),
+            |m| m != -spin,
+            column,
+            |m, l0, col| {
+                for (i, c) in col.iter().enumerate() {
+                    for (k, &x) in c.iter().enumerate() {
+                        let (at, sign) = place(k, m, l0 + i);
+                        out[at][k] = sign * x;
+                    }
+                }
+            },
+        );
+        let l0 = spin.unsigned_abs() as usize;
+        for (k, &h) in half.iter().enumerate() {
+            diagonal_column(spin, lmax, h, diagonal);
+            for (i, &x) in diagonal.iter().enumerate() {
+                let (at, sign) = place(k, -spin, l0 + i);
+                out[at][k] = sign * x;
+            }
+        }
+    }
+}
+
 /// `Lambda_{l,-s}(theta) = (-1)^s sqrt((2l+1)/(4 pi)) d^l_{-s,-s}(theta)`, `l = |s|..=lmax`,
 /// into `out`, by the recursion of [`crate::sh::recursion::lambda`] at `m = m' = -s` in its
 /// difference form (`proofs/swsh.md`, "The diagonal order near the poles"): with
