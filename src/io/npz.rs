@@ -118,7 +118,7 @@ impl<'a> Archive<'a> {
         let fortran = arr.order() == npyz::Order::Fortran;
         // The values parsed from a buffer the zip entry fills 64 KiB at a time: read value
         // by value from the entry, each went through the entry's CRC-32 on its own (then
-        // 2.7 ms against polarsh's 0.7 ms for a 1 MB vector, `python/benches/quickstart.py`).
+        // 2.7 ms against polarsh's 0.7 ms for a 1 MB vector, `python/benches/python_rows.py`).
         let header = arr.header().clone();
         let buffered = BufReader::with_capacity(1 << 16, arr.into_inner());
         let data = npyz::NpyFile::with_header(header, buffered)

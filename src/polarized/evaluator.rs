@@ -157,10 +157,10 @@ impl PshEvaluator {
 impl PshEvaluator {
     /// [`PshEvaluator::evaluate_into`] at many directions: the components of every channel
     /// of `v` at `dirs[d]` into `out[d * channels + c]`, in the theta-phi frame at
-    /// `dirs[d]` (PSH (28)). The basis is made direction by direction as there; the sums
-    /// PSH (30) run over four directions at once in lanes, with independent partial sums
-    /// (a single direction's sums wait on each addition in turn), so the values may differ
-    /// from [`PshEvaluator::evaluate_into`]'s in the last bits. Errors: as
+    /// `dirs[d]` (PSH (28)). Four directions at a time: their basis in lanes (the real SH
+    /// by the Cartesian kernel, the spin-2 recursion for four polar angles) and the sums PSH (30) in lanes with independent partial
+    /// sums (a single direction's sums wait on each addition in turn), so the values may
+    /// differ from [`PshEvaluator::evaluate_into`]'s in the last bits. Errors: as
     /// [`PshEvaluator::evaluate_into`], and `out` not one per direction and channel.
     pub fn evaluate_batch(
         &mut self,
@@ -203,9 +203,7 @@ impl PshEvaluator {
         }
         Ok(())
     }
-}
 
-impl PshEvaluator {
     /// [`Self::lanes`] for the first `n` coefficients at the directions `block` (at most
     /// four; the last repeated): the real SH by the Cartesian kernel
     /// ([`ShEvaluator::real_batch`]), the spin-2 SH (zero unless `spin`) by the recursion in
